@@ -1,0 +1,14 @@
+//! drillopt: robust operating-point optimisation of horizontal drillstrings.
+//!
+//! The data flow mirrors the modules: [`problem`] (TOML schema, validation) → [`model`] (physical
+//! parameters) → [`fem`] (beam element, assembly, boundary conditions) → [`rom`] (modes) → …
+//! The physics is that of `MODEL.md` (Cunha Jr, Soize & Sampaio 2014, with its settled choices).
+
+pub mod cli;
+pub mod fem;
+pub mod model;
+pub mod problem;
+pub mod rom;
+
+/// Version of drillopt, recorded in every result file.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

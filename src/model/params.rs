@@ -1,0 +1,110 @@
+//! Validated physical parameters. Constructed by [`crate::problem`] from a problem file, or directly
+//! in code (tests, benches); every field is in SI units.
+
+/// Pipe material and cross-section (MODEL.md §1).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pipe {
+    /// Steel density ρ, kg/m³.
+    pub density: f64,
+    /// Young's modulus E, Pa.
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν, in (−1, 0.5).
+    pub poisson_ratio: f64,
+    /// Inner radius R_int, m (0 for a solid bar).
+    pub inner_radius: f64,
+    /// Outer radius R_ext, m.
+    pub outer_radius: f64,
+    /// Transverse shear correction κ_s (Cowper's hollow circle unless the problem sets it).
+    pub shear_factor: f64,
+    /// Torsional correction κ_t (1 is exact St-Venant torsion, stiffness G J).
+    pub torsion_factor: f64,
+}
+
+/// Wall contact and friction at every node (MODEL.md §5, Eqs. (2), (3)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WallContact {
+    /// Linear contact stiffness k_FS1, N/m.
+    pub stiffness: f64,
+    /// Cubic contact stiffness k_FS2, N/m³.
+    pub cubic_stiffness: f64,
+    /// Hunt–Crossley damping c_FS, N·s/m⁴ (the force is c_FS |δ|³ δ̇).
+    pub damping: f64,
+    /// Coulomb friction coefficient μ_FS, dimensionless.
+    pub friction: f64,
+    /// Angular velocity ε of the smooth sign, sgn(ω) ≈ tanh(ω/ε), rad/s.
+    pub sign_smoothing: f64,
+}
+
+/// Bit–rock interaction law (MODEL.md §6, Eqs. (4), (5)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BitRock {
+    /// Limit force Γ_BR, N.
+    pub limit_force: f64,
+    /// Rate of change α_BR, s/m.
+    pub rate: f64,
+    /// Friction length μ_BR, m (torque = μ_BR |F_BR| ξ).
+    pub friction: f64,
+}
+
+/// The drillstring, borehole and environment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Drillstring {
+    /// Length L from the top drive (x = 0) to the bit (x = L), m.
+    pub length: f64,
+    pub pipe: Pipe,
+    /// Drilling fluid density ρ_f, kg/m³ (adds lateral mass ρ_f A_f only).
+    pub fluid_density: f64,
+    /// Borehole radius R_bh, m.
+    pub borehole_radius: f64,
+    /// Mass-proportional damping c, 1/s (C = c · M_pipe).
+    pub damping: f64,
+    /// Gravitational acceleration g, m/s², acting along −z.
+    pub gravity: f64,
+    pub wall: WallContact,
+    pub bit: BitRock,
+}
+
+impl Drillstring {
+    /// Radial gap between the pipe and the borehole wall, R_bh − R_ext, m.
+    pub fn gap(&self) -> f64 {
+        self.borehole_radius - self.pipe.outer_radius
+    }
+}
+
+/// Finite-element discretisation and reduction sizes (MODEL.md §7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Mesh {
+    /// Number of 2-node beam elements N (6(N+1) DOF).
+    pub elements: usize,
+    /// Number of modes N_red kept in the reduced-order model.
+    pub reduced_modes: usize,
+}
+
+impl Mesh {
+    /// Total DOF count of the unconstrained mesh, 6(N+1).
+    pub fn dof(&self) -> usize {
+        6 * (self.elements + 1)
+    }
+}
+
+/// Imposed motion at the top drive (MODEL.md §4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OperatingPoint {
+    /// Rotation speed Ω, rad/s.
+    pub omega: f64,
+    /// Imposed axial velocity V0, m/s.
+    pub v0: f64,
+}
+
+/// Time window and outputs of one simulation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Simulation {
+    /// Simulated time window, s.
+    pub duration: f64,
+    /// Nominal time step, s (refined automatically around impacts).
+    pub time_step: f64,
+    /// Time discarded before metrics are computed, s.
+    pub settling_time: f64,
+    /// Positions x where the radial displacement is recorded, m.
+    pub probes: Vec<f64>,
+}

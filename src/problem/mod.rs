@@ -1,0 +1,49 @@
+//! Problem files: the TOML schema of a study, its validation, and the validated [`Problem`].
+//!
+//! Two layers: [`schema`] mirrors the file (serde, unknown keys rejected), [`validate`] checks every
+//! value and builds the SI runtime structs of [`crate::model`]. Every error names the file and the
+//! dotted key (`model.pipe.outer_radius`) and says what is allowed.
+
+mod error;
+pub mod schema;
+pub mod units;
+mod validate;
+
+pub use error::ProblemError;
+pub use units::{Dimension, UnitError};
+
+use crate::model::{Drillstring, Mesh, OperatingPoint, Simulation};
+use std::path::{Path, PathBuf};
+
+/// A validated study: the model, its discretisation, the operating point and the simulation window.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    /// Name of the study (file stem unless the file sets `name`).
+    pub name: String,
+    /// Free-text description from the file.
+    pub description: String,
+    /// Where it was read from (empty for problems built in code).
+    pub source: PathBuf,
+    pub model: Drillstring,
+    pub mesh: Mesh,
+    pub operating_point: OperatingPoint,
+    pub simulation: Simulation,
+}
+
+impl Problem {
+    /// Read and validate a problem file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Self, ProblemError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
+            file: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_toml(&text, path)
+    }
+
+    /// Parse and validate TOML text; `path` is used for messages and the default name.
+    pub fn from_toml(text: &str, path: &Path) -> Result<Self, ProblemError> {
+        let raw = validate::parse(text, path)?;
+        validate::problem(raw, path)
+    }
+}

@@ -1,0 +1,134 @@
+//! The problem file as written: serde structs that mirror the TOML, nothing checked but the shape.
+//!
+//! Every table denies unknown keys, so a misspelled key is an error rather than a silent default.
+//! Dimensional values are [`RawQuantity`]: a bare number in SI units or a string with a unit.
+//! [`super::validate`] turns these into the runtime structs of [`crate::model`].
+
+use serde::Deserialize;
+use serde::de::{self, Deserializer, Visitor};
+use std::fmt;
+
+/// A value as written: a number (SI units) or a string such as `"60 rpm"`, `"cowper"`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RawQuantity {
+    Number(f64),
+    Text(String),
+}
+
+impl<'de> Deserialize<'de> for RawQuantity {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct QuantityVisitor;
+        impl Visitor<'_> for QuantityVisitor {
+            type Value = RawQuantity;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a number in SI units or a string with a unit such as \"60 rpm\"")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawQuantity, E> {
+                Ok(RawQuantity::Number(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawQuantity, E> {
+                Ok(RawQuantity::Number(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawQuantity, E> {
+                Ok(RawQuantity::Number(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<RawQuantity, E> {
+                Ok(RawQuantity::Text(v.to_string()))
+            }
+        }
+        deserializer.deserialize_any(QuantityVisitor)
+    }
+}
+
+/// The whole problem file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProblemFile {
+    /// Name used for the results folder; defaults to the file stem.
+    pub name: Option<String>,
+    /// Free text: where the configuration comes from.
+    pub description: Option<String>,
+    pub model: ModelSection,
+    pub mesh: MeshSection,
+    pub operating_point: OperatingPointSection,
+    pub simulation: SimulationSection,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSection {
+    pub length: RawQuantity,
+    pub gravity: Option<RawQuantity>,
+    pub pipe: PipeSection,
+    pub fluid: FluidSection,
+    pub borehole: BoreholeSection,
+    pub wall: WallSection,
+    pub bit: BitSection,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PipeSection {
+    pub density: RawQuantity,
+    pub youngs_modulus: RawQuantity,
+    pub poisson_ratio: RawQuantity,
+    pub inner_radius: RawQuantity,
+    pub outer_radius: RawQuantity,
+    pub damping: RawQuantity,
+    pub shear_factor: Option<RawQuantity>,
+    pub torsion_factor: Option<RawQuantity>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidSection {
+    pub density: RawQuantity,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoreholeSection {
+    pub radius: RawQuantity,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallSection {
+    pub stiffness: RawQuantity,
+    pub cubic_stiffness: RawQuantity,
+    pub damping: RawQuantity,
+    pub friction: RawQuantity,
+    pub sign_smoothing: Option<RawQuantity>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BitSection {
+    pub limit_force: RawQuantity,
+    pub rate: RawQuantity,
+    pub friction: RawQuantity,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSection {
+    pub elements: i64,
+    pub reduced_modes: i64,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OperatingPointSection {
+    pub omega: RawQuantity,
+    pub v0: RawQuantity,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSection {
+    pub duration: RawQuantity,
+    pub time_step: RawQuantity,
+    pub settling_time: Option<RawQuantity>,
+    #[serde(default)]
+    pub probes: Vec<RawQuantity>,
+}

@@ -1,0 +1,204 @@
+//! Physical quantities written with units, as users think of them.
+//!
+//! A problem file may give any dimensional value either as a bare number, read in SI units, or as a
+//! string `"<number> <unit>"` (the space is optional): `"60 rpm"`, `"5 m/h"`, `"40 mm"`, `"250 kN"`.
+//! [`Dimension::parse`] converts such a string to SI, and is also what the command line uses for
+//! `--omega 60rpm` and `--v0 5m/h`.
+
+use std::fmt;
+
+/// The physical dimension of a value, which fixes the units it may be written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dimension {
+    /// Pure number.
+    Dimensionless,
+    /// Length, SI unit m.
+    Length,
+    /// Time, SI unit s.
+    Time,
+    /// Linear velocity, SI unit m/s.
+    Velocity,
+    /// Angular velocity, SI unit rad/s.
+    AngularVelocity,
+    /// Force, SI unit N.
+    Force,
+    /// Pressure or elastic modulus, SI unit Pa.
+    Pressure,
+    /// Mass density, SI unit kg/m³.
+    Density,
+    /// Acceleration, SI unit m/s².
+    Acceleration,
+    /// Inverse time (rates, mass-proportional damping), SI unit 1/s.
+    Rate,
+    /// Inverse velocity, SI unit s/m (the bit–rock rate α_BR).
+    InverseVelocity,
+    /// Linear stiffness, SI unit N/m.
+    Stiffness,
+    /// Cubic stiffness, SI unit N/m³.
+    CubicStiffness,
+}
+
+impl Dimension {
+    /// Units accepted for this dimension, with their factor to SI.
+    pub fn units(self) -> &'static [(&'static str, f64)] {
+        use std::f64::consts::PI;
+        match self {
+            Dimension::Dimensionless => &[],
+            Dimension::Length => &[
+                ("m", 1.0),
+                ("mm", 1e-3),
+                ("cm", 1e-2),
+                ("km", 1e3),
+                ("in", 0.0254),
+                ("ft", 0.3048),
+            ],
+            Dimension::Time => &[
+                ("s", 1.0),
+                ("ms", 1e-3),
+                ("us", 1e-6),
+                ("min", 60.0),
+                ("h", 3600.0),
+            ],
+            Dimension::Velocity => &[
+                ("m/s", 1.0),
+                ("mm/s", 1e-3),
+                ("m/min", 1.0 / 60.0),
+                ("m/h", 1.0 / 3600.0),
+                ("ft/h", 0.3048 / 3600.0),
+            ],
+            Dimension::AngularVelocity => &[
+                ("rad/s", 1.0),
+                ("rpm", 2.0 * PI / 60.0),
+                ("rev/s", 2.0 * PI),
+                ("Hz", 2.0 * PI),
+            ],
+            Dimension::Force => &[("N", 1.0), ("kN", 1e3), ("MN", 1e6)],
+            Dimension::Pressure => &[("Pa", 1.0), ("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9)],
+            Dimension::Density => &[
+                ("kg/m3", 1.0),
+                ("kg/m^3", 1.0),
+                ("g/cm3", 1e3),
+                ("g/cm^3", 1e3),
+            ],
+            Dimension::Acceleration => &[("m/s2", 1.0), ("m/s^2", 1.0)],
+            Dimension::Rate => &[("1/s", 1.0), ("Hz", 1.0)],
+            Dimension::InverseVelocity => &[("s/m", 1.0)],
+            Dimension::Stiffness => &[("N/m", 1.0), ("kN/m", 1e3), ("MN/m", 1e6)],
+            Dimension::CubicStiffness => &[("N/m3", 1.0), ("N/m^3", 1.0)],
+        }
+    }
+
+    /// The SI unit, for messages.
+    pub fn si_unit(self) -> &'static str {
+        self.units().first().map_or("(no unit)", |(u, _)| u)
+    }
+
+    /// Parse `"<number> <unit>"` (or a bare number, read as SI) into SI units.
+    pub fn parse(self, text: &str) -> Result<f64, UnitError> {
+        let text = text.trim();
+        let split = text
+            .char_indices()
+            .find(|&(i, c)| {
+                !(c.is_ascii_digit() || matches!(c, '.' | '+' | '-' | '_'))
+                    && !(matches!(c, 'e' | 'E') && exponent_follows(text, i))
+            })
+            .map_or(text.len(), |(i, _)| i);
+        let (number, unit) = text.split_at(split);
+        let value: f64 = number
+            .replace('_', "")
+            .parse()
+            .map_err(|_| UnitError::new(self, text, "does not start with a number"))?;
+        let unit = unit.trim();
+        if unit.is_empty() {
+            return Ok(value);
+        }
+        self.units()
+            .iter()
+            .find(|(name, _)| *name == unit)
+            .map(|(_, factor)| value * factor)
+            .ok_or_else(|| UnitError::new(self, text, &format!("unknown unit `{unit}`")))
+    }
+}
+
+/// Whether the `e`/`E` at byte `i` of `text` starts an exponent (`1e10`, `2.5E-3`), not a unit.
+fn exponent_follows(text: &str, i: usize) -> bool {
+    let rest = &text[i + 1..];
+    let rest = rest.strip_prefix(['+', '-']).unwrap_or(rest);
+    i > 0 && rest.starts_with(|c: char| c.is_ascii_digit())
+}
+
+/// A quantity that could not be read: what was written and what is allowed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnitError {
+    pub text: String,
+    pub reason: String,
+    pub allowed: String,
+}
+
+impl UnitError {
+    fn new(dim: Dimension, text: &str, reason: &str) -> Self {
+        let units: Vec<&str> = dim.units().iter().map(|(u, _)| *u).collect();
+        let allowed = if units.is_empty() {
+            "a plain number".to_string()
+        } else {
+            format!(
+                "a number (in {}) or a string with one of the units {}",
+                dim.si_unit(),
+                units.join(", ")
+            )
+        };
+        UnitError {
+            text: text.to_string(),
+            reason: reason.to_string(),
+            allowed,
+        }
+    }
+}
+
+impl fmt::Display for UnitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "`{}` {}; expected {}",
+            self.text, self.reason, self.allowed
+        )
+    }
+}
+
+impl std::error::Error for UnitError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn converts_the_units_drillers_use() {
+        assert_relative_eq!(
+            Dimension::AngularVelocity.parse("60 rpm").unwrap(),
+            2.0 * PI
+        );
+        assert_relative_eq!(Dimension::AngularVelocity.parse("60rpm").unwrap(), 2.0 * PI);
+        assert_relative_eq!(Dimension::Velocity.parse("5 m/h").unwrap(), 1.0 / 720.0);
+        assert_relative_eq!(Dimension::Length.parse("40 mm").unwrap(), 0.04);
+        assert_relative_eq!(Dimension::Force.parse("250 kN").unwrap(), 250e3);
+        assert_relative_eq!(Dimension::Pressure.parse("203 GPa").unwrap(), 203e9);
+        assert_relative_eq!(Dimension::Stiffness.parse("1e10 N/m").unwrap(), 1e10);
+        assert_relative_eq!(Dimension::Velocity.parse("1.5e-3").unwrap(), 1.5e-3);
+        assert_relative_eq!(Dimension::Time.parse("69 ms").unwrap(), 0.069);
+    }
+
+    #[test]
+    fn rejects_unknown_units_and_garbage_with_the_allowed_units() {
+        let err = Dimension::AngularVelocity.parse("60 rps").unwrap_err();
+        assert!(err.to_string().contains("unknown unit `rps`"), "{err}");
+        assert!(err.to_string().contains("rpm"), "{err}");
+        let err = Dimension::Velocity.parse("fast").unwrap_err();
+        assert!(
+            err.to_string().contains("does not start with a number"),
+            "{err}"
+        );
+        assert!(Dimension::Dimensionless.parse("3 m").is_err());
+    }
+}

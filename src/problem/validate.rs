@@ -1,0 +1,361 @@
+//! From [`ProblemFile`] to [`Problem`]: every value parsed to SI and checked against its legal range.
+
+use super::schema::*;
+use super::{Dimension, Problem, ProblemError};
+use crate::model::{
+    BitRock, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, WallContact, cowper_shear_factor,
+};
+use std::path::Path;
+
+/// Default smoothing of the friction sign, rad/s: small against any drilling speed (≥ 10 rpm ≈ 1 rad/s).
+pub const DEFAULT_SIGN_SMOOTHING: f64 = 1e-3;
+/// Standard gravity, m/s², used when the file omits `model.gravity`.
+pub const STANDARD_GRAVITY: f64 = 9.81;
+
+/// Deserialize the file, reporting the dotted path of any key that has the wrong shape or is unknown.
+pub(super) fn parse(text: &str, file: &Path) -> Result<ProblemFile, ProblemError> {
+    let de = toml::Deserializer::parse(text).map_err(|e| syntax(text, file, &e))?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let message = inner.message().to_string();
+        if path == "." || path.is_empty() {
+            // A missing or unknown top-level table: toml's message already names it.
+            let key = missing_or_unknown_key(&message).unwrap_or_else(|| "(top level)".into());
+            ProblemError::Invalid {
+                file: file.to_path_buf(),
+                key,
+                message,
+            }
+        } else {
+            let key = match missing_or_unknown_key(&message) {
+                Some(k) if message.starts_with("missing field") => format!("{path}.{k}"),
+                _ => path,
+            };
+            ProblemError::Invalid {
+                file: file.to_path_buf(),
+                key,
+                message,
+            }
+        }
+    })
+}
+
+/// The key named in serde's "missing field `x`" / "unknown field `x`" messages.
+fn missing_or_unknown_key(message: &str) -> Option<String> {
+    let rest = message
+        .strip_prefix("missing field `")
+        .or_else(|| message.strip_prefix("unknown field `"))?;
+    rest.split('`').next().map(str::to_string)
+}
+
+fn syntax(text: &str, file: &Path, e: &toml::de::Error) -> ProblemError {
+    let (line, column) = e.span().map_or((0, 0), |span| {
+        let before = &text[..span.start.min(text.len())];
+        let line = before.matches('\n').count() + 1;
+        let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        (line, column)
+    });
+    ProblemError::Syntax {
+        file: file.to_path_buf(),
+        line,
+        column,
+        message: e.message().to_string(),
+    }
+}
+
+/// Reads values from the raw file and checks them, naming the file and key on failure.
+struct Checker<'a> {
+    file: &'a Path,
+}
+
+impl Checker<'_> {
+    fn fail(&self, key: &str, message: String) -> ProblemError {
+        ProblemError::Invalid {
+            file: self.file.to_path_buf(),
+            key: key.to_string(),
+            message,
+        }
+    }
+
+    /// A finite value in SI units.
+    fn value(&self, key: &str, raw: &RawQuantity, dim: Dimension) -> Result<f64, ProblemError> {
+        let v = match raw {
+            RawQuantity::Number(v) => *v,
+            RawQuantity::Text(t) => dim.parse(t).map_err(|e| self.fail(key, e.to_string()))?,
+        };
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.fail(key, format!("must be a finite number, got {v}")))
+        }
+    }
+
+    /// A value that must satisfy `ok`; `allowed` says what is allowed, in words.
+    fn check(
+        &self,
+        key: &str,
+        v: f64,
+        ok: bool,
+        allowed: &str,
+        dim: Dimension,
+    ) -> Result<f64, ProblemError> {
+        if ok {
+            Ok(v)
+        } else {
+            let unit = dim.si_unit();
+            Err(self.fail(key, format!("must be {allowed}, got {v} {unit}")))
+        }
+    }
+
+    fn positive(&self, key: &str, raw: &RawQuantity, dim: Dimension) -> Result<f64, ProblemError> {
+        let v = self.value(key, raw, dim)?;
+        self.check(key, v, v > 0.0, "> 0", dim)
+    }
+
+    fn non_negative(
+        &self,
+        key: &str,
+        raw: &RawQuantity,
+        dim: Dimension,
+    ) -> Result<f64, ProblemError> {
+        let v = self.value(key, raw, dim)?;
+        self.check(key, v, v >= 0.0, ">= 0", dim)
+    }
+}
+
+pub(super) fn problem(raw: ProblemFile, file: &Path) -> Result<Problem, ProblemError> {
+    let c = Checker { file };
+    let model = drillstring(&c, &raw.model)?;
+    let mesh = mesh(&c, &raw.mesh)?;
+    let operating_point = operating_point(&c, &raw.operating_point)?;
+    let simulation = simulation(&c, &raw.simulation, model.length)?;
+    let name = match raw.name {
+        Some(n) if n.trim().is_empty() || n.contains(['/', '\\']) => {
+            return Err(c.fail(
+                "name",
+                format!("must be a non-empty name without path separators, got {n:?}"),
+            ));
+        }
+        Some(n) => n,
+        None => file
+            .file_stem()
+            .map_or_else(|| "problem".into(), |s| s.to_string_lossy().into_owned()),
+    };
+    Ok(Problem {
+        name,
+        description: raw.description.unwrap_or_default(),
+        source: file.to_path_buf(),
+        model,
+        mesh,
+        operating_point,
+        simulation,
+    })
+}
+
+fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemError> {
+    use Dimension::*;
+    let length = c.positive("model.length", &m.length, Length)?;
+    let gravity = match &m.gravity {
+        Some(g) => c.non_negative("model.gravity", g, Acceleration)?,
+        None => STANDARD_GRAVITY,
+    };
+    let pipe = pipe(c, &m.pipe)?;
+    let fluid_density = c.non_negative("model.fluid.density", &m.fluid.density, Density)?;
+    let borehole_radius = c.positive("model.borehole.radius", &m.borehole.radius, Length)?;
+    c.check(
+        "model.borehole.radius",
+        borehole_radius,
+        borehole_radius > pipe.outer_radius,
+        &format!(
+            "greater than model.pipe.outer_radius ({} m): the pipe must fit in the hole",
+            pipe.outer_radius
+        ),
+        Length,
+    )?;
+    let damping = c.non_negative("model.pipe.damping", &m.pipe.damping, Rate)?;
+    let w = &m.wall;
+    let wall = WallContact {
+        stiffness: c.non_negative("model.wall.stiffness", &w.stiffness, Stiffness)?,
+        cubic_stiffness: c.non_negative(
+            "model.wall.cubic_stiffness",
+            &w.cubic_stiffness,
+            CubicStiffness,
+        )?,
+        damping: c.non_negative("model.wall.damping", &w.damping, Dimensionless)?,
+        friction: c.non_negative("model.wall.friction", &w.friction, Dimensionless)?,
+        sign_smoothing: match &w.sign_smoothing {
+            Some(e) => c.positive("model.wall.sign_smoothing", e, AngularVelocity)?,
+            None => DEFAULT_SIGN_SMOOTHING,
+        },
+    };
+    let b = &m.bit;
+    let bit = BitRock {
+        limit_force: c.non_negative("model.bit.limit_force", &b.limit_force, Force)?,
+        rate: c.positive("model.bit.rate", &b.rate, InverseVelocity)?,
+        friction: c.non_negative("model.bit.friction", &b.friction, Length)?,
+    };
+    Ok(Drillstring {
+        length,
+        pipe,
+        fluid_density,
+        borehole_radius,
+        damping,
+        gravity,
+        wall,
+        bit,
+    })
+}
+
+fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
+    use Dimension::*;
+    let density = c.positive("model.pipe.density", &p.density, Density)?;
+    let youngs_modulus = c.positive("model.pipe.youngs_modulus", &p.youngs_modulus, Pressure)?;
+    let nu = c.value("model.pipe.poisson_ratio", &p.poisson_ratio, Dimensionless)?;
+    let poisson_ratio = c.check(
+        "model.pipe.poisson_ratio",
+        nu,
+        nu > -1.0 && nu < 0.5,
+        "in (-1, 0.5)",
+        Dimensionless,
+    )?;
+    let inner_radius = c.non_negative("model.pipe.inner_radius", &p.inner_radius, Length)?;
+    let outer_radius = c.positive("model.pipe.outer_radius", &p.outer_radius, Length)?;
+    c.check(
+        "model.pipe.outer_radius",
+        outer_radius,
+        outer_radius > inner_radius,
+        &format!("greater than model.pipe.inner_radius ({inner_radius} m)"),
+        Length,
+    )?;
+    let cowper = cowper_shear_factor(poisson_ratio, inner_radius, outer_radius);
+    let factor =
+        |key: &str, raw: &Option<RawQuantity>, word: &str, word_value: f64, default: f64| match raw
+        {
+            None => Ok(default),
+            Some(RawQuantity::Text(t)) if t == word => Ok(word_value),
+            Some(RawQuantity::Text(t)) => Err(c.fail(
+                key,
+                format!("`{t}` is not allowed; expected a number in (0, 1] or \"{word}\""),
+            )),
+            Some(RawQuantity::Number(v)) => c.check(
+                key,
+                *v,
+                v.is_finite() && *v > 0.0 && *v <= 1.0,
+                &format!("in (0, 1] or \"{word}\""),
+                Dimensionless,
+            ),
+        };
+    let shear_factor = factor(
+        "model.pipe.shear_factor",
+        &p.shear_factor,
+        "cowper",
+        cowper,
+        cowper,
+    )?;
+    let torsion_factor = factor(
+        "model.pipe.torsion_factor",
+        &p.torsion_factor,
+        "shear",
+        shear_factor,
+        1.0,
+    )?;
+    Ok(Pipe {
+        density,
+        youngs_modulus,
+        poisson_ratio,
+        inner_radius,
+        outer_radius,
+        shear_factor,
+        torsion_factor,
+    })
+}
+
+/// Upper bound on the element count: far beyond any useful mesh, it keeps dense algebra bounded.
+const MAX_ELEMENTS: i64 = 2000;
+
+fn mesh(c: &Checker, m: &MeshSection) -> Result<Mesh, ProblemError> {
+    if !(1..=MAX_ELEMENTS).contains(&m.elements) {
+        return Err(c.fail(
+            "mesh.elements",
+            format!(
+                "must be an integer in [1, {MAX_ELEMENTS}], got {}",
+                m.elements
+            ),
+        ));
+    }
+    let elements = m.elements as usize;
+    let free = crate::fem::BoundaryConditions::drillstring(elements).free_count();
+    if m.reduced_modes < 1 || m.reduced_modes as usize > free {
+        return Err(c.fail(
+            "mesh.reduced_modes",
+            format!(
+                "must be an integer in [1, {free}] (the free DOFs of {elements} elements), got {}",
+                m.reduced_modes
+            ),
+        ));
+    }
+    Ok(Mesh {
+        elements,
+        reduced_modes: m.reduced_modes as usize,
+    })
+}
+
+fn operating_point(c: &Checker, o: &OperatingPointSection) -> Result<OperatingPoint, ProblemError> {
+    Ok(OperatingPoint {
+        omega: c.positive(
+            "operating_point.omega",
+            &o.omega,
+            Dimension::AngularVelocity,
+        )?,
+        v0: c.positive("operating_point.v0", &o.v0, Dimension::Velocity)?,
+    })
+}
+
+fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulation, ProblemError> {
+    use Dimension::*;
+    let duration = c.positive("simulation.duration", &s.duration, Time)?;
+    let time_step = c.positive("simulation.time_step", &s.time_step, Time)?;
+    c.check(
+        "simulation.time_step",
+        time_step,
+        time_step <= duration,
+        &format!("no longer than simulation.duration ({duration} s)"),
+        Time,
+    )?;
+    let settling_time = match &s.settling_time {
+        Some(t) => {
+            let t = c.non_negative("simulation.settling_time", t, Time)?;
+            c.check(
+                "simulation.settling_time",
+                t,
+                t < duration,
+                &format!("shorter than simulation.duration ({duration} s)"),
+                Time,
+            )?
+        }
+        None => 0.0,
+    };
+    let probes = s
+        .probes
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let key = format!("simulation.probes[{i}]");
+            let x = c.value(&key, p, Length)?;
+            c.check(
+                &key,
+                x,
+                (0.0..=length).contains(&x),
+                &format!("in [0, model.length = {length} m]"),
+                Length,
+            )
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(Simulation {
+        duration,
+        time_step,
+        settling_time,
+        probes,
+    })
+}

@@ -1,0 +1,7 @@
+//! Reduced-order modelling: the lowest modes of (K, M) on the constrained system (MODEL.md §7).
+
+mod eigen;
+mod modes;
+
+pub use eigen::{EigenError, generalized_symmetric_eigen};
+pub use modes::{Family, ModalBasis, Mode};
