@@ -1,0 +1,88 @@
+//! Shared test helpers: the seed problem and closed-form references computed independently of the
+//! crate (from the raw Table 1 numbers, not from `Section`).
+#![allow(dead_code)]
+
+use std::f64::consts::PI;
+
+pub const SEED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed_mc2014.toml");
+
+pub fn seed() -> drillopt::problem::Problem {
+    drillopt::problem::Problem::load(SEED).expect("the seed problem loads")
+}
+
+/// Table 1 of the seed paper, SI.
+pub struct Table1;
+impl Table1 {
+    pub const L: f64 = 35.0;
+    pub const RHO: f64 = 7900.0;
+    pub const RHO_F: f64 = 1200.0;
+    pub const E: f64 = 203e9;
+    pub const NU: f64 = 0.3;
+    pub const R_INT: f64 = 0.040;
+    pub const R_EXT: f64 = 0.060;
+
+    pub fn area() -> f64 {
+        PI * (Self::R_EXT.powi(2) - Self::R_INT.powi(2))
+    }
+    pub fn inertia() -> f64 {
+        PI / 4.0 * (Self::R_EXT.powi(4) - Self::R_INT.powi(4))
+    }
+    pub fn fluid_area() -> f64 {
+        PI * Self::R_INT.powi(2)
+    }
+    pub fn shear_modulus() -> f64 {
+        Self::E / (2.0 * (1.0 + Self::NU))
+    }
+    /// Cowper's factor for the hollow circle, MODEL.md §1.
+    pub fn cowper() -> f64 {
+        let m2 = (Self::R_INT / Self::R_EXT).powi(2);
+        let a = (1.0 + m2).powi(2);
+        6.0 * (1.0 + Self::NU) * a / ((7.0 + 6.0 * Self::NU) * a + (20.0 + 12.0 * Self::NU) * m2)
+    }
+    pub fn lateral_mass() -> f64 {
+        Self::RHO * Self::area() + Self::RHO_F * Self::fluid_area()
+    }
+}
+
+/// Fixed–free rod: f_n = (2n − 1) c / (4L), c the wave speed.
+pub fn fixed_free_rod_hz(n: usize, wave_speed: f64, length: f64) -> f64 {
+    (2 * n - 1) as f64 * wave_speed / (4.0 * length)
+}
+
+/// Roots of tan x = tanh x (clamped–pinned Euler–Bernoulli beam), by bisection on
+/// ((4n+1)π/4 ± 0.3).
+pub fn clamped_pinned_root(n: usize) -> f64 {
+    let f = |x: f64| x.sin() * x.cosh() - x.cos() * x.sinh();
+    let centre = (4 * n + 1) as f64 * PI / 4.0;
+    let (mut a, mut b) = (centre - 0.3, centre + 0.3);
+    assert!(f(a) * f(b) < 0.0);
+    for _ in 0..200 {
+        let m = 0.5 * (a + b);
+        if f(a) * f(m) <= 0.0 { b = m } else { a = m }
+    }
+    0.5 * (a + b)
+}
+
+/// Clamped–pinned Euler–Bernoulli beam: f_n = (β_n L)² / (2π L²) √(EI/m).
+pub fn clamped_pinned_hz(n: usize, ei: f64, mass_per_length: f64, length: f64) -> f64 {
+    let bl = clamped_pinned_root(n);
+    bl * bl / (2.0 * PI * length * length) * (ei / mass_per_length).sqrt()
+}
+
+/// Pinned–pinned Timoshenko beam with rotatory inertia, exact: the lower root ω² of
+/// m ρI ω⁴ − ω² [m(EI k² + κGA) + ρI κGA k²] + κGA EI k⁴ = 0, k = nπ/L.
+pub fn pinned_pinned_timoshenko_hz(
+    n: usize,
+    ei: f64,
+    kga: f64,
+    m: f64,
+    rho_i: f64,
+    length: f64,
+) -> f64 {
+    let k = n as f64 * PI / length;
+    let a = m * rho_i;
+    let b = m * (ei * k * k + kga) + rho_i * kga * k * k;
+    let c = kga * ei * k.powi(4);
+    let omega2 = (b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
+    omega2.sqrt() / (2.0 * PI)
+}
