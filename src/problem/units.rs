@@ -98,10 +98,7 @@ impl Dimension {
         let text = text.trim();
         let split = text
             .char_indices()
-            .find(|&(i, c)| {
-                !(c.is_ascii_digit() || matches!(c, '.' | '+' | '-' | '_'))
-                    && !(matches!(c, 'e' | 'E') && exponent_follows(text, i))
-            })
+            .find(|&(i, c)| !is_number_char(text, i, c))
             .map_or(text.len(), |(i, _)| i);
         let (number, unit) = text.split_at(split);
         let value: f64 = number
@@ -118,6 +115,12 @@ impl Dimension {
             .map(|(_, factor)| value * factor)
             .ok_or_else(|| UnitError::new(self, text, &format!("unknown unit `{unit}`")))
     }
+}
+
+/// Whether the character `c` at byte `i` still belongs to the leading number of `text`.
+fn is_number_char(text: &str, i: usize, c: char) -> bool {
+    let exponent = matches!(c, 'e' | 'E') && exponent_follows(text, i);
+    c.is_ascii_digit() || matches!(c, '.' | '+' | '-' | '_') || exponent
 }
 
 /// Whether the `e`/`E` at byte `i` of `text` starts an exponent (`1e10`, `2.5E-3`), not a unit.
