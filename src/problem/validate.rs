@@ -131,10 +131,12 @@ pub(super) fn problem(raw: ProblemFile, file: &Path) -> Result<Problem, ProblemE
     let operating_point = operating_point(&c, &raw.operating_point)?;
     let simulation = simulation(&c, &raw.simulation, model.length)?;
     let name = match raw.name {
-        Some(n) if n.trim().is_empty() || n.contains(['/', '\\']) => {
+        Some(n) if n.trim().is_empty() || n.contains(['/', '\\']) || n == "." || n == ".." => {
             return Err(c.fail(
                 "name",
-                format!("must be a non-empty name without path separators, got {n:?}"),
+                format!(
+                    "must be a non-empty name without path separators, not `.` or `..`, got {n:?}"
+                ),
             ));
         }
         Some(n) => n,

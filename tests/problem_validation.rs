@@ -1,0 +1,967 @@
+//! The problem loader refuses every kind of bad input with an error that names the file, the dotted
+//! key and what is allowed; and it reads the seed file and the optional keys' defaults exactly.
+//!
+//! Each case is the seed file `problems/seed_mc2014.toml` with exactly one line replaced, removed or
+//! inserted, so a failure can only come from that one change.
+
+use approx::assert_relative_eq;
+use drillopt::problem::{Problem, ProblemError};
+use std::f64::consts::PI;
+use std::path::Path;
+
+const SEED: &str = include_str!("../problems/seed_mc2014.toml");
+/// The path every edited text is "read from"; messages must name it.
+const FILE: &str = "cases/edited_seed.toml";
+
+// ---------------------------------------------------------------------------------------------
+// Editing the seed text
+
+/// Line range `[start, end)` of the body of `table` (`""` is the top level, before any header).
+fn section(lines: &[&str], table: &str) -> (usize, usize) {
+    let start = if table.is_empty() {
+        0
+    } else {
+        let header = format!("[{table}]");
+        lines
+            .iter()
+            .position(|l| l.trim() == header)
+            .unwrap_or_else(|| panic!("the seed file has no table {header}"))
+            + 1
+    };
+    let end = lines[start..]
+        .iter()
+        .position(|l| l.trim_start().starts_with('['))
+        .map_or(lines.len(), |i| start + i);
+    (start, end)
+}
+
+/// Index of the line that sets `key` in `table`, if there is one.
+fn key_line(lines: &[&str], table: &str, key: &str) -> Option<usize> {
+    let (start, end) = section(lines, table);
+    let prefix = format!("{key} =");
+    let found: Vec<usize> = (start..end)
+        .filter(|&i| lines[i].trim_start().starts_with(&prefix))
+        .collect();
+    assert!(found.len() <= 1, "`{key}` is set twice in [{table}]");
+    found.first().copied()
+}
+
+fn join(lines: &[String]) -> String {
+    let mut text = lines.join("\n");
+    text.push('\n');
+    text
+}
+
+/// The seed with the line of `table.key` replaced by `key = value`.
+fn set(table: &str, key: &str, value: &str) -> String {
+    let lines: Vec<&str> = SEED.lines().collect();
+    let i = key_line(&lines, table, key)
+        .unwrap_or_else(|| panic!("the seed file does not set `{key}` in [{table}]"));
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    out[i] = format!("{key} = {value}");
+    join(&out)
+}
+
+/// The seed with `key = value` added to `table`, which must not set `key` yet.
+fn insert(table: &str, key: &str, value: &str) -> String {
+    let lines: Vec<&str> = SEED.lines().collect();
+    assert!(
+        key_line(&lines, table, key).is_none(),
+        "the seed file already sets `{key}` in [{table}]"
+    );
+    let (start, _) = section(&lines, table);
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    out.insert(start, format!("{key} = {value}"));
+    join(&out)
+}
+
+/// The seed without the line of `table.key`.
+fn remove(table: &str, key: &str) -> String {
+    let lines: Vec<&str> = SEED.lines().collect();
+    let i = key_line(&lines, table, key)
+        .unwrap_or_else(|| panic!("the seed file does not set `{key}` in [{table}]"));
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    out.remove(i);
+    join(&out)
+}
+
+/// 1-based line number of the line that sets `table.key` in `text`.
+fn line_of(text: &str, table: &str, key: &str) -> usize {
+    let lines: Vec<&str> = text.lines().collect();
+    key_line(&lines, table, key).expect("key present") + 1
+}
+
+// ---------------------------------------------------------------------------------------------
+// Loading and checking
+
+fn load(text: &str) -> Result<Problem, ProblemError> {
+    Problem::from_toml(text, Path::new(FILE))
+}
+
+#[track_caller]
+fn accepted(text: &str) -> Problem {
+    load(text).unwrap_or_else(|e| panic!("refused: {e}"))
+}
+
+/// `text` must be refused with an `Invalid` error about `key` whose message names the file, the key
+/// and contains every one of `allowed` (words of what is allowed, or of what was wrong).
+#[track_caller]
+fn refused(text: &str, key: &str, allowed: &[&str]) -> ProblemError {
+    let err = match load(text) {
+        Ok(p) => panic!("accepted, but `{key}` should have been refused: {p:?}"),
+        Err(e) => e,
+    };
+    let msg = err.to_string();
+    assert!(
+        matches!(err, ProblemError::Invalid { .. }),
+        "expected an Invalid error about `{key}`, got {err:?}"
+    );
+    assert_eq!(err.key(), Some(key), "wrong key in: {msg}");
+    assert!(msg.contains(FILE), "message does not name the file: {msg}");
+    assert!(
+        msg.contains(&format!("`{key}`")),
+        "message does not name `{key}`: {msg}"
+    );
+    for word in allowed {
+        assert!(msg.contains(word), "message lacks {word:?}: {msg}");
+    }
+    err
+}
+
+/// Cowper's shear factor of a hollow circle, MODEL.md §1.
+fn cowper(nu: f64, m: f64) -> f64 {
+    let m2 = m * m;
+    let a = (1.0 + m2).powi(2);
+    6.0 * (1.0 + nu) * a / ((7.0 + 6.0 * nu) * a + (20.0 + 12.0 * nu) * m2)
+}
+
+// ---------------------------------------------------------------------------------------------
+// The seed file and the defaults
+
+#[test]
+fn the_seed_file_loads_with_the_exact_table_1_values() {
+    let p = accepted(SEED);
+    assert_eq!(p.name, "seed_mc2014");
+    assert!(p.description.contains("Table 1"));
+    assert_eq!(p.source, Path::new(FILE));
+
+    let m = &p.model;
+    assert_eq!(m.length, 35.0);
+    assert_eq!(m.gravity, 9.81);
+    assert_eq!(m.pipe.density, 7900.0);
+    assert_eq!(m.pipe.youngs_modulus, 203e9);
+    assert_eq!(m.pipe.poisson_ratio, 0.3);
+    assert_eq!(m.pipe.inner_radius, 0.04);
+    assert_eq!(m.pipe.outer_radius, 0.06);
+    assert_eq!(m.borehole_radius, 0.07);
+    assert_eq!(m.damping, 0.03);
+    assert_eq!(m.fluid_density, 1200.0);
+    let kappa = cowper(0.3, 2.0 / 3.0);
+    assert_relative_eq!(m.pipe.shear_factor, kappa, max_relative = 1e-14);
+    assert_relative_eq!(kappa, 0.5641, epsilon = 1e-4);
+    assert_eq!(m.pipe.torsion_factor, m.pipe.shear_factor);
+    assert_eq!(m.wall.stiffness, 1e10);
+    assert_eq!(m.wall.cubic_stiffness, 1e16);
+    assert_eq!(m.wall.damping, 1e-9);
+    assert_eq!(m.wall.friction, 1e-5);
+    assert_eq!(m.wall.sign_smoothing, 1e-3);
+    assert_eq!(m.bit.limit_force, 250e3);
+    assert_eq!(m.bit.rate, 180.0);
+    assert_eq!(m.bit.friction, 0.04);
+
+    assert_eq!(p.mesh.elements, 105);
+    assert_eq!(p.mesh.reduced_modes, 51);
+    assert_eq!(p.operating_point.omega, 2.0 * PI);
+    assert_eq!(p.operating_point.v0, 1.0 / 720.0);
+    assert_eq!(p.simulation.duration, 90.0);
+    assert_eq!(p.simulation.time_step, 0.069);
+    assert_eq!(p.simulation.settling_time, 0.0);
+    assert_eq!(p.simulation.probes, vec![20.0]);
+}
+
+#[test]
+fn omitted_optional_keys_take_the_documented_defaults() {
+    let p = accepted(&remove("model", "gravity"));
+    assert_eq!(p.model.gravity, 9.81);
+
+    // shear_factor omitted: Cowper's value; torsion_factor = "shear" follows it.
+    let p = accepted(&remove("model.pipe", "shear_factor"));
+    assert_relative_eq!(
+        p.model.pipe.shear_factor,
+        cowper(0.3, 2.0 / 3.0),
+        max_relative = 1e-14
+    );
+    assert_eq!(p.model.pipe.torsion_factor, p.model.pipe.shear_factor);
+
+    // torsion_factor omitted: 1, exact St-Venant torsion (MODEL.md §3).
+    let p = accepted(&remove("model.pipe", "torsion_factor"));
+    assert_eq!(p.model.pipe.torsion_factor, 1.0);
+    assert_relative_eq!(
+        p.model.pipe.shear_factor,
+        cowper(0.3, 2.0 / 3.0),
+        max_relative = 1e-14
+    );
+
+    // settling_time and sign_smoothing are not in the seed file.
+    let p = accepted(SEED);
+    assert_eq!(p.simulation.settling_time, 0.0);
+    assert_eq!(p.model.wall.sign_smoothing, 1e-3);
+
+    let p = accepted(&remove("simulation", "probes"));
+    assert!(p.simulation.probes.is_empty());
+
+    // No `name`: the file stem.
+    let p = accepted(&remove("", "name"));
+    assert_eq!(p.name, "edited_seed");
+    let p = accepted(&remove("", "description"));
+    assert_eq!(p.description, "");
+}
+
+#[test]
+fn optional_keys_when_given_are_read() {
+    let p = accepted(&insert("simulation", "settling_time", "\"10 s\""));
+    assert_eq!(p.simulation.settling_time, 10.0);
+    let p = accepted(&insert("model.wall", "sign_smoothing", "\"0.6 rpm\""));
+    assert_relative_eq!(p.model.wall.sign_smoothing, 0.02 * PI, max_relative = 1e-14);
+    let p = accepted(&set("model.pipe", "shear_factor", "0.9"));
+    assert_eq!(p.model.pipe.shear_factor, 0.9);
+    assert_eq!(
+        p.model.pipe.torsion_factor, 0.9,
+        "\"shear\" follows the given factor"
+    );
+    let p = accepted(&set("model.pipe", "shear_factor", "1"));
+    assert_eq!(p.model.pipe.shear_factor, 1.0, "1 is in (0, 1]");
+    let p = accepted(&set("model.pipe", "torsion_factor", "0.75"));
+    assert_eq!(p.model.pipe.torsion_factor, 0.75);
+    let p = accepted(&set("simulation", "probes", "[0, \"17.5 m\", 35.0]"));
+    assert_eq!(
+        p.simulation.probes,
+        vec![0.0, 17.5, 35.0],
+        "the ends are allowed"
+    );
+    let p = accepted(&set("model", "gravity", "0"));
+    assert_eq!(p.model.gravity, 0.0);
+}
+
+#[test]
+fn units_convert_to_si() {
+    let omega = |v: &str| {
+        accepted(&set("operating_point", "omega", v))
+            .operating_point
+            .omega
+    };
+    assert_relative_eq!(omega("\"120 rpm\""), 4.0 * PI, max_relative = 1e-14);
+    assert_relative_eq!(omega("\"30rpm\""), PI, max_relative = 1e-14);
+    assert_relative_eq!(omega("\"1.5 rev/s\""), 3.0 * PI, max_relative = 1e-14);
+    assert_eq!(omega("\"5 rad/s\""), 5.0);
+    assert_eq!(omega("4.5"), 4.5, "a bare number is SI");
+
+    let v0 = |v: &str| {
+        accepted(&set("operating_point", "v0", v))
+            .operating_point
+            .v0
+    };
+    assert_relative_eq!(v0("\"18 m/h\""), 0.005, max_relative = 1e-14);
+    assert_relative_eq!(v0("\"3 mm/s\""), 0.003, max_relative = 1e-14);
+    assert_relative_eq!(v0("\"0.6 m/min\""), 0.01, max_relative = 1e-14);
+    assert_eq!(v0("1e-3"), 1e-3);
+
+    let p = accepted(&set("model.pipe", "inner_radius", "\"38.5 mm\""));
+    assert_relative_eq!(p.model.pipe.inner_radius, 0.0385, max_relative = 1e-14);
+    let p = accepted(&set("model.pipe", "outer_radius", "\"6.5 cm\""));
+    assert_relative_eq!(p.model.pipe.outer_radius, 0.065, max_relative = 1e-14);
+    let p = accepted(&set("model", "length", "\"1.2 km\""));
+    assert_relative_eq!(p.model.length, 1200.0, max_relative = 1e-14);
+    let p = accepted(&set("model", "length", "\"40_000 mm\""));
+    assert_relative_eq!(p.model.length, 40.0, max_relative = 1e-14);
+    let p = accepted(&set("model.pipe", "youngs_modulus", "\"210000 MPa\""));
+    assert_relative_eq!(p.model.pipe.youngs_modulus, 210e9, max_relative = 1e-14);
+    let p = accepted(&set("model.pipe", "density", "\"7.85 g/cm^3\""));
+    assert_relative_eq!(p.model.pipe.density, 7850.0, max_relative = 1e-14);
+    let p = accepted(&set("simulation", "duration", "\"2 min\""));
+    assert_eq!(p.simulation.duration, 120.0);
+    let p = accepted(&set("simulation", "time_step", "\"500 us\""));
+    assert_relative_eq!(p.simulation.time_step, 5e-4, max_relative = 1e-14);
+    let p = accepted(&set("model.bit", "limit_force", "\"0.3 MN\""));
+    assert_relative_eq!(p.model.bit.limit_force, 3e5, max_relative = 1e-14);
+}
+
+#[test]
+fn a_file_on_disk_loads_and_takes_its_stem_as_default_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("my_study.toml");
+    std::fs::write(&path, remove("", "name")).unwrap();
+    let p = Problem::load(&path).unwrap();
+    assert_eq!(p.name, "my_study");
+    assert_eq!(p.source, path);
+    assert_eq!(p.model.length, 35.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files that cannot be read or parsed
+
+#[test]
+fn a_missing_file_is_refused_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("no_such_problem.toml");
+    let err = Problem::load(&path).unwrap_err();
+    assert!(matches!(err, ProblemError::Io { .. }), "{err:?}");
+    assert_eq!(err.key(), None);
+    let msg = err.to_string();
+    assert!(msg.contains(&path.display().to_string()), "{msg}");
+    assert!(msg.contains("cannot read"), "{msg}");
+}
+
+#[test]
+fn an_unreadable_path_is_refused_naming_the_file() {
+    // A directory cannot be read as a file, whoever runs the test (root ignores permissions).
+    let dir = tempfile::tempdir().unwrap();
+    let err = Problem::load(dir.path()).unwrap_err();
+    assert!(matches!(err, ProblemError::Io { .. }), "{err:?}");
+    assert!(err.to_string().contains(&dir.path().display().to_string()));
+}
+
+#[track_caller]
+fn syntax_error_at(text: &str, expected_line: usize) {
+    let err = load(text).expect_err("a TOML syntax error must be refused");
+    let msg = err.to_string();
+    match err {
+        ProblemError::Syntax { line, ref file, .. } => {
+            assert_eq!(line, expected_line, "{msg}");
+            assert_eq!(file, Path::new(FILE));
+        }
+        ref other => panic!("expected a Syntax error, got {other:?}"),
+    }
+    assert!(
+        msg.starts_with(&format!("{FILE}:{expected_line}:")),
+        "message does not start with file:line: {msg}"
+    );
+    assert!(msg.contains("not valid TOML"), "{msg}");
+}
+
+#[test]
+fn a_toml_syntax_error_is_refused_with_its_line_number() {
+    let text = set("mesh", "elements", "105 106");
+    syntax_error_at(&text, line_of(&text, "mesh", "elements"));
+    let text = set("operating_point", "omega", "\"60 rpm");
+    syntax_error_at(&text, line_of(&text, "operating_point", "omega"));
+    let text = set("model.pipe", "density", "");
+    syntax_error_at(&text, line_of(&text, "model.pipe", "density"));
+}
+
+#[test]
+fn a_key_set_twice_is_refused() {
+    // Not one edit but a copy of one line: `elements` appears twice in [mesh].
+    let text = SEED.replace("elements = 105", "elements = 105\nelements = 105");
+    let second = SEED
+        .lines()
+        .position(|l| l.starts_with("elements = 105"))
+        .unwrap()
+        + 2;
+    let err = load(&text).expect_err("a duplicate key must be refused");
+    let msg = err.to_string();
+    // toml's message is only "duplicate key": the line number is what points at it.
+    assert!(msg.contains(FILE), "{msg}");
+    assert!(msg.contains("duplicate key"), "{msg}");
+    match err {
+        ProblemError::Syntax { line, .. } => assert_eq!(line, second, "{msg}"),
+        other => panic!("expected a Syntax error, got {other:?}"),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shape: unknown, missing and mistyped keys
+
+#[test]
+fn an_unknown_top_level_key_is_refused() {
+    refused(
+        &insert("", "nmae", "\"x\""),
+        "nmae",
+        &["unknown field", "name"],
+    );
+}
+
+#[test]
+fn an_unknown_nested_key_is_refused() {
+    refused(
+        &insert("model.pipe", "outer_radiuss", "\"60 mm\""),
+        "model.pipe.outer_radiuss",
+        &["unknown field", "outer_radius"],
+    );
+    refused(
+        &insert("operating_point", "wob", "\"10 kN\""),
+        "operating_point.wob",
+        &["unknown field", "omega", "v0"],
+    );
+    refused(
+        &insert("model.wall", "sign_smothing", "1e-3"),
+        "model.wall.sign_smothing",
+        &["unknown field", "sign_smoothing"],
+    );
+}
+
+#[test]
+fn an_unknown_table_is_refused() {
+    let text = format!("{SEED}\n[solver]\ntolerance = 1e-6\n");
+    refused(&text, "solver", &["unknown field", "simulation"]);
+    let text = format!("{SEED}\n[model.rock]\nstrength = \"50 MPa\"\n");
+    refused(&text, "model.rock", &["unknown field", "borehole"]);
+}
+
+#[test]
+fn a_missing_required_key_is_refused() {
+    refused(
+        &remove("model.pipe", "outer_radius"),
+        "model.pipe.outer_radius",
+        &["missing field"],
+    );
+    refused(
+        &remove("model", "length"),
+        "model.length",
+        &["missing field"],
+    );
+    refused(
+        &remove("mesh", "reduced_modes"),
+        "mesh.reduced_modes",
+        &["missing field"],
+    );
+    refused(
+        &remove("operating_point", "v0"),
+        "operating_point.v0",
+        &["missing field"],
+    );
+    refused(
+        &remove("model.bit", "rate"),
+        "model.bit.rate",
+        &["missing field"],
+    );
+}
+
+#[test]
+fn a_missing_required_table_is_refused() {
+    let text = SEED.replace("[model.fluid]\ndensity = \"1200 kg/m^3\"\n", "");
+    assert_ne!(text, SEED);
+    refused(&text, "model.fluid", &["missing field"]);
+    let start = SEED.find("[simulation]").unwrap();
+    refused(&SEED[..start], "simulation", &["missing field"]);
+}
+
+#[test]
+fn a_value_of_the_wrong_type_is_refused() {
+    // serde's wording: "expected i64", i.e. an integer.
+    refused(
+        &set("mesh", "elements", "\"many\""),
+        "mesh.elements",
+        &["invalid type", "expected i64"],
+    );
+    refused(
+        &set("mesh", "elements", "105.0"),
+        "mesh.elements",
+        &["invalid type", "expected i64"],
+    );
+    refused(
+        &set("model.pipe", "poisson_ratio", "true"),
+        "model.pipe.poisson_ratio",
+        &["invalid type", "a number"],
+    );
+    refused(
+        &set("operating_point", "omega", "[60]"),
+        "operating_point.omega",
+        &["invalid type", "\"60 rpm\""],
+    );
+    refused(&set("", "name", "42"), "name", &["invalid type", "string"]);
+    refused(
+        &set("simulation", "probes", "\"20 m\""),
+        "simulation.probes",
+        &["invalid type", "sequence"],
+    );
+    refused(
+        &set("simulation", "probes", "[\"20 m\", true]"),
+        "simulation.probes[1]",
+        &["invalid type", "a number"],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Quantities: units and numbers
+
+#[test]
+fn an_unknown_unit_is_refused_listing_the_allowed_units() {
+    refused(
+        &set("operating_point", "omega", "\"60 rps\""),
+        "operating_point.omega",
+        &["unknown unit `rps`", "rpm", "rad/s"],
+    );
+    refused(
+        &set("operating_point", "v0", "\"5 m/day\""),
+        "operating_point.v0",
+        &["unknown unit `m/day`", "m/h", "m/s"],
+    );
+    // A unit of the wrong dimension is an unknown unit too.
+    refused(
+        &set("model.pipe", "outer_radius", "\"60 kN\""),
+        "model.pipe.outer_radius",
+        &["unknown unit `kN`", "mm"],
+    );
+    // Dimensionless values take no unit.
+    refused(
+        &set("model.pipe", "poisson_ratio", "\"0.3 m\""),
+        "model.pipe.poisson_ratio",
+        &["unknown unit `m`", "a plain number"],
+    );
+}
+
+#[test]
+fn a_malformed_quantity_is_refused() {
+    refused(
+        &set("operating_point", "omega", "\"fast\""),
+        "operating_point.omega",
+        &["does not start with a number", "rpm"],
+    );
+    refused(
+        &set("model", "length", "\"\""),
+        "model.length",
+        &["does not start with a number", "m"],
+    );
+    refused(
+        &set("model", "length", "\"3.5.1 m\""),
+        "model.length",
+        &["does not start with a number"],
+    );
+    refused(
+        &set("simulation", "duration", "\"s 90\""),
+        "simulation.duration",
+        &["does not start with a number"],
+    );
+}
+
+#[test]
+fn a_non_finite_value_is_refused() {
+    refused(&set("model", "length", "nan"), "model.length", &["finite"]);
+    refused(&set("model", "length", "inf"), "model.length", &["finite"]);
+    refused(
+        &set("model", "gravity", "-inf"),
+        "model.gravity",
+        &["finite"],
+    );
+    refused(
+        &set("operating_point", "omega", "+inf"),
+        "operating_point.omega",
+        &["finite"],
+    );
+    refused(
+        &set("model.pipe", "poisson_ratio", "nan"),
+        "model.pipe.poisson_ratio",
+        &["finite"],
+    );
+    refused(
+        &set("model.pipe", "shear_factor", "nan"),
+        "model.pipe.shear_factor",
+        &["(0, 1]"],
+    );
+    // Overflow in a unit string is not finite either.
+    refused(
+        &set("model", "length", "\"1e999 m\""),
+        "model.length",
+        &["finite"],
+    );
+    refused(
+        &set("simulation", "probes", "[nan]"),
+        "simulation.probes[0]",
+        &["finite"],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ranges: geometry and material
+
+#[test]
+fn a_non_positive_length_is_refused() {
+    refused(
+        &set("model", "length", "\"-35 m\""),
+        "model.length",
+        &["> 0"],
+    );
+    refused(&set("model", "length", "0"), "model.length", &["> 0"]);
+}
+
+#[test]
+fn a_negative_radius_is_refused() {
+    refused(
+        &set("model.pipe", "inner_radius", "\"-40 mm\""),
+        "model.pipe.inner_radius",
+        &[">= 0"],
+    );
+    refused(
+        &set("model.pipe", "outer_radius", "\"-60 mm\""),
+        "model.pipe.outer_radius",
+        &["> 0"],
+    );
+    refused(
+        &set("model.borehole", "radius", "-0.07"),
+        "model.borehole.radius",
+        &["> 0"],
+    );
+}
+
+#[test]
+fn a_solid_pipe_is_accepted() {
+    let p = accepted(&set("model.pipe", "inner_radius", "0"));
+    assert_eq!(p.model.pipe.inner_radius, 0.0);
+    assert_relative_eq!(
+        p.model.pipe.shear_factor,
+        cowper(0.3, 0.0),
+        max_relative = 1e-14
+    );
+}
+
+#[test]
+fn outer_radius_not_above_inner_radius_is_refused() {
+    refused(
+        &set("model.pipe", "outer_radius", "\"40 mm\""),
+        "model.pipe.outer_radius",
+        &["greater than model.pipe.inner_radius"],
+    );
+    refused(
+        &set("model.pipe", "inner_radius", "\"65 mm\""),
+        "model.pipe.outer_radius",
+        &["greater than model.pipe.inner_radius"],
+    );
+}
+
+#[test]
+fn a_pipe_that_does_not_fit_the_borehole_is_refused() {
+    refused(
+        &set("model.borehole", "radius", "\"60 mm\""),
+        "model.borehole.radius",
+        &["greater than model.pipe.outer_radius"],
+    );
+    refused(
+        &set("model.borehole", "radius", "\"50 mm\""),
+        "model.borehole.radius",
+        &["greater than model.pipe.outer_radius"],
+    );
+    refused(
+        &set("model.pipe", "outer_radius", "\"75 mm\""),
+        "model.borehole.radius",
+        &["greater than model.pipe.outer_radius"],
+    );
+}
+
+#[test]
+fn poisson_ratio_must_lie_in_minus_one_to_one_half() {
+    for v in ["0.5", "-1.0", "0.7", "-1.5"] {
+        refused(
+            &set("model.pipe", "poisson_ratio", v),
+            "model.pipe.poisson_ratio",
+            &["(-1, 0.5)"],
+        );
+    }
+    let p = accepted(&set("model.pipe", "poisson_ratio", "0.49"));
+    assert_eq!(p.model.pipe.poisson_ratio, 0.49);
+    let p = accepted(&set("model.pipe", "poisson_ratio", "-0.2"));
+    assert_eq!(p.model.pipe.poisson_ratio, -0.2);
+}
+
+#[test]
+fn a_negative_density_is_refused() {
+    refused(
+        &set("model.pipe", "density", "-7900"),
+        "model.pipe.density",
+        &["> 0"],
+    );
+    refused(
+        &set("model.pipe", "density", "0"),
+        "model.pipe.density",
+        &["> 0"],
+    );
+    refused(
+        &set("model.fluid", "density", "\"-1200 kg/m^3\""),
+        "model.fluid.density",
+        &[">= 0"],
+    );
+    // No fluid is allowed.
+    assert_eq!(
+        accepted(&set("model.fluid", "density", "0"))
+            .model
+            .fluid_density,
+        0.0
+    );
+}
+
+#[test]
+fn a_non_positive_youngs_modulus_is_refused() {
+    refused(
+        &set("model.pipe", "youngs_modulus", "0"),
+        "model.pipe.youngs_modulus",
+        &["> 0"],
+    );
+    refused(
+        &set("model.pipe", "youngs_modulus", "\"-203 GPa\""),
+        "model.pipe.youngs_modulus",
+        &["> 0"],
+    );
+}
+
+#[test]
+fn a_negative_damping_is_refused() {
+    refused(
+        &set("model.pipe", "damping", "\"-0.03 1/s\""),
+        "model.pipe.damping",
+        &[">= 0"],
+    );
+    refused(
+        &set("model.wall", "damping", "-1e-9"),
+        "model.wall.damping",
+        &[">= 0"],
+    );
+    assert_eq!(
+        accepted(&set("model.pipe", "damping", "0")).model.damping,
+        0.0
+    );
+}
+
+#[test]
+fn negative_contact_and_bit_parameters_are_refused() {
+    refused(
+        &set("model.wall", "stiffness", "\"-1e10 N/m\""),
+        "model.wall.stiffness",
+        &[">= 0"],
+    );
+    refused(
+        &set("model.wall", "cubic_stiffness", "-1e16"),
+        "model.wall.cubic_stiffness",
+        &[">= 0"],
+    );
+    refused(
+        &set("model.wall", "friction", "-1e-5"),
+        "model.wall.friction",
+        &[">= 0"],
+    );
+    refused(
+        &insert("model.wall", "sign_smoothing", "0"),
+        "model.wall.sign_smoothing",
+        &["> 0"],
+    );
+    refused(
+        &set("model.bit", "limit_force", "\"-250 kN\""),
+        "model.bit.limit_force",
+        &[">= 0"],
+    );
+    refused(&set("model.bit", "rate", "0"), "model.bit.rate", &["> 0"]);
+    refused(
+        &set("model.bit", "friction", "\"-0.04 m\""),
+        "model.bit.friction",
+        &[">= 0"],
+    );
+    refused(
+        &set("model", "gravity", "\"-9.81 m/s^2\""),
+        "model.gravity",
+        &[">= 0"],
+    );
+}
+
+#[test]
+fn a_shear_factor_outside_zero_to_one_is_refused() {
+    for v in ["0", "-0.5", "1.01", "2"] {
+        refused(
+            &set("model.pipe", "shear_factor", v),
+            "model.pipe.shear_factor",
+            &["(0, 1]", "\"cowper\""],
+        );
+    }
+    refused(
+        &set("model.pipe", "torsion_factor", "1.5"),
+        "model.pipe.torsion_factor",
+        &["(0, 1]", "\"shear\""],
+    );
+}
+
+#[test]
+fn an_unknown_word_for_a_factor_is_refused() {
+    refused(
+        &set("model.pipe", "shear_factor", "\"timoshenko\""),
+        "model.pipe.shear_factor",
+        &["`timoshenko` is not allowed", "(0, 1]", "\"cowper\""],
+    );
+    // Each factor has its own word.
+    refused(
+        &set("model.pipe", "shear_factor", "\"shear\""),
+        "model.pipe.shear_factor",
+        &["\"cowper\""],
+    );
+    refused(
+        &set("model.pipe", "torsion_factor", "\"cowper\""),
+        "model.pipe.torsion_factor",
+        &["\"shear\""],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ranges: mesh, operating point, simulation window
+
+#[test]
+fn zero_or_too_many_elements_are_refused() {
+    refused(
+        &set("mesh", "elements", "0"),
+        "mesh.elements",
+        &["[1, 2000]"],
+    );
+    refused(
+        &set("mesh", "elements", "-3"),
+        "mesh.elements",
+        &["[1, 2000]"],
+    );
+    refused(
+        &set("mesh", "elements", "2001"),
+        "mesh.elements",
+        &["[1, 2000]"],
+    );
+}
+
+#[test]
+fn reduced_modes_must_be_between_one_and_the_free_dofs() {
+    // 105 elements: 6 × 106 = 636 DOF, less the 6 at the top and v, w at the bit: 628 free.
+    refused(
+        &set("mesh", "reduced_modes", "0"),
+        "mesh.reduced_modes",
+        &["[1, 628]"],
+    );
+    refused(
+        &set("mesh", "reduced_modes", "-1"),
+        "mesh.reduced_modes",
+        &["[1, 628]"],
+    );
+    refused(
+        &set("mesh", "reduced_modes", "629"),
+        "mesh.reduced_modes",
+        &["[1, 628]"],
+    );
+    refused(
+        &set("mesh", "reduced_modes", "636"),
+        "mesh.reduced_modes",
+        &["free DOFs"],
+    );
+    assert_eq!(
+        accepted(&set("mesh", "reduced_modes", "628"))
+            .mesh
+            .reduced_modes,
+        628
+    );
+    assert_eq!(
+        accepted(&set("mesh", "reduced_modes", "1"))
+            .mesh
+            .reduced_modes,
+        1
+    );
+}
+
+#[test]
+fn a_non_positive_rotation_speed_is_refused() {
+    refused(
+        &set("operating_point", "omega", "0"),
+        "operating_point.omega",
+        &["> 0"],
+    );
+    refused(
+        &set("operating_point", "omega", "\"-60 rpm\""),
+        "operating_point.omega",
+        &["> 0", "rad/s"],
+    );
+}
+
+#[test]
+fn a_non_positive_rate_of_penetration_is_refused() {
+    refused(
+        &set("operating_point", "v0", "\"0 m/h\""),
+        "operating_point.v0",
+        &["> 0"],
+    );
+    refused(
+        &set("operating_point", "v0", "-1e-3"),
+        "operating_point.v0",
+        &["> 0", "m/s"],
+    );
+}
+
+#[test]
+fn a_non_positive_duration_or_time_step_is_refused() {
+    refused(
+        &set("simulation", "duration", "0"),
+        "simulation.duration",
+        &["> 0"],
+    );
+    refused(
+        &set("simulation", "time_step", "\"-1 ms\""),
+        "simulation.time_step",
+        &["> 0"],
+    );
+}
+
+#[test]
+fn a_time_step_longer_than_the_duration_is_refused() {
+    refused(
+        &set("simulation", "time_step", "\"91 s\""),
+        "simulation.time_step",
+        &["no longer than simulation.duration"],
+    );
+    let p = accepted(&set("simulation", "time_step", "\"90 s\""));
+    assert_eq!(p.simulation.time_step, 90.0);
+}
+
+#[test]
+fn a_settling_time_not_shorter_than_the_duration_is_refused() {
+    for v in ["\"90 s\"", "\"2 min\""] {
+        refused(
+            &insert("simulation", "settling_time", v),
+            "simulation.settling_time",
+            &["shorter than simulation.duration"],
+        );
+    }
+    refused(
+        &insert("simulation", "settling_time", "-1"),
+        "simulation.settling_time",
+        &[">= 0"],
+    );
+}
+
+#[test]
+fn a_probe_outside_the_string_is_refused() {
+    refused(
+        &set("simulation", "probes", "[\"36 m\"]"),
+        "simulation.probes[0]",
+        &["in [0, model.length = 35 m]"],
+    );
+    refused(
+        &set("simulation", "probes", "[\"20 m\", -0.5]"),
+        "simulation.probes[1]",
+        &["in [0, model.length = 35 m]"],
+    );
+    refused(
+        &set("simulation", "probes", "[\"20 rpm\"]"),
+        "simulation.probes[0]",
+        &["unknown unit `rpm`"],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Name
+
+#[test]
+fn a_name_that_is_not_a_plain_folder_name_is_refused() {
+    // Used as the results folder: no separators, and not a folder that points elsewhere.
+    for v in [
+        "\"runs/seed\"",
+        "\"..\\\\seed\"",
+        "\"\"",
+        "\"   \"",
+        "\".\"",
+        "\"..\"",
+    ] {
+        refused(&set("", "name", v), "name", &["without path separators"]);
+    }
+    assert_eq!(
+        accepted(&set("", "name", "\"seed-v2_b\"")).name,
+        "seed-v2_b"
+    );
+}
