@@ -13,9 +13,11 @@ mod boundary;
 mod dof;
 mod element;
 mod shape;
+mod strain_energy;
 
 pub use assembly::{GlobalMatrices, assemble};
 pub use boundary::BoundaryConditions;
 pub use dof::{DOF_PER_NODE, Dof};
 pub use element::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector};
 pub use shape::{Interpolation, gauss_legendre_4};
+pub use strain_energy::{ElementStrains, STRAIN_VARS, StrainEnergy, Strains};

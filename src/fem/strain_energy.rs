@@ -1,0 +1,400 @@
+//! Geometrically nonlinear strain energy of the rotation-consistent kinematics (MODEL.md §2, §3).
+//!
+//! Kinematics: u_x = u − Y θz + Z θy, u_y = v + Y − y, u_z = w + Z − z with the spun section
+//! coordinates Y = y cos θx − z sin θx, Z = y sin θx + z cos θx. Working out the Green–Lagrange
+//! strains and changing the section variables from (y, z) to (Y, Z) (a rotation: the annulus and dA
+//! are unchanged) gives, with a = u′ + Y(θx′θy − θz′) + Z(θy′ + θx′θz):
+//!
+//!   E_xx = a + ½ (a² + (v′ − Z θx′)² + (w′ + Y θx′)²),
+//!   (γ_xy, γ_xz) = R(−θx) Γ,   Γ = (v′ − θz − Z θx′ − a θz,  w′ + θy + Y θx′ + a θy),
+//!
+//! so |γ| = |Γ| and the energy per unit length depends on the generalised strains
+//! g = (u′, v′, w′, θx′, θy′, θz′, θy, θz) only: θx itself drops out (objectivity). E_xx is a
+//! polynomial of degree 2 and Γ of degree 1 in (Y, Z), so the section integrals are exact from the
+//! annulus moments ∫dA = A, ∫Y² = ∫Z² = I, ∫Y⁴ = ∫Z⁴ = 3K₄, ∫Y²Z² = K₄, K₄ = π(R_ext⁶ − R_int⁶)/24,
+//! odd moments zero. The energy per length is
+//!
+//!   W(g) = ½ [ E ∫E_xx² dA + G (κ_s A |Γ̄|² + κ_t ∫|Γ − Γ̄|² dA) ],  Γ̄ the section average,
+//!
+//! whose quadratic part is exactly the stiffness operator (9).
+
+use super::{BeamElement, ElementMatrix, ElementVector};
+use crate::model::Drillstring;
+use nalgebra::{SMatrix, SVector};
+use num_dual::{DualNum, gradient, hessian};
+use std::f64::consts::PI;
+
+/// Number of generalised strains g = (u′, v′, w′, θx′, θy′, θz′, θy, θz).
+pub const STRAIN_VARS: usize = 8;
+/// The generalised strains at a point.
+pub type Strains<T> = SVector<T, STRAIN_VARS>;
+
+/// The constitutive and section data of the strain energy per unit length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StrainEnergy {
+    /// Young's modulus E, Pa.
+    pub youngs_modulus: f64,
+    /// Shear modulus G, Pa.
+    pub shear_modulus: f64,
+    /// Transverse shear correction κ_s.
+    pub shear_factor: f64,
+    /// Torsional correction κ_t.
+    pub torsion_factor: f64,
+    /// ∫dA = A, m².
+    pub area: f64,
+    /// ∫Y² dA = I, m⁴.
+    pub second_moment: f64,
+    /// ∫Y²Z² dA = K₄ (and ∫Y⁴ dA = 3K₄), m⁶.
+    pub fourth_moment: f64,
+}
+
+impl StrainEnergy {
+    pub fn of(string: &Drillstring) -> Self {
+        let p = &string.pipe;
+        let (ro, ri) = (p.outer_radius, p.inner_radius);
+        StrainEnergy {
+            youngs_modulus: p.youngs_modulus,
+            shear_modulus: p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio)),
+            shear_factor: p.shear_factor,
+            torsion_factor: p.torsion_factor,
+            area: PI * (ro * ro - ri * ri),
+            second_moment: PI / 4.0 * (ro.powi(4) - ri.powi(4)),
+            fourth_moment: PI / 24.0 * (ro.powi(6) - ri.powi(6)),
+        }
+    }
+
+    /// Strain energy per unit length W(g), J/m, for any dual-number type (for derivatives).
+    pub fn density<T: DualNum<Primitive = f64> + Copy>(&self, g: &Strains<T>) -> T {
+        let [du, dv, dw, dtx, dty, dtz, ty, tz] = [g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7]];
+        let (a_, i_, k4) = (self.area, self.second_moment, self.fourth_moment);
+        let half = 0.5;
+        // a = e0 + k1 Y + k2 Z.
+        let e0 = du;
+        let k1 = dtx * ty - dtz;
+        let k2 = dty + dtx * tz;
+        // E_xx = c0 + c1 Y + c2 Z + c3 Y² + c4 YZ + c5 Z².
+        let c0 = e0 + (e0 * e0 + dv * dv + dw * dw) * half;
+        let c1 = k1 * (e0 + 1.0) + dw * dtx;
+        let c2 = k2 * (e0 + 1.0) - dv * dtx;
+        let c3 = (k1 * k1 + dtx * dtx) * half;
+        let c4 = k1 * k2;
+        let c5 = (k2 * k2 + dtx * dtx) * half;
+        let exx2 = c0 * c0 * a_
+            + c0 * (c3 + c5) * (2.0 * i_)
+            + (c1 * c1 + c2 * c2) * i_
+            + (c3 * c3 + c5 * c5) * (3.0 * k4)
+            + c3 * c5 * (2.0 * k4)
+            + c4 * c4 * k4;
+        // Γ = Γ̄ + (linear in Y, Z).
+        let g1_mean = dv - tz - e0 * tz;
+        let g2_mean = dw + ty + e0 * ty;
+        let (g1_y, g1_z) = (-(k1 * tz), -(dtx + k2 * tz));
+        let (g2_y, g2_z) = (dtx + k1 * ty, k2 * ty);
+        let mean_sq = g1_mean * g1_mean + g2_mean * g2_mean;
+        let fluct_sq = (g1_y * g1_y + g1_z * g1_z + g2_y * g2_y + g2_z * g2_z) * i_;
+        let shear = mean_sq * (self.shear_factor * a_) + fluct_sq * self.torsion_factor;
+        (exx2 * self.youngs_modulus + shear * self.shear_modulus) * half
+    }
+
+    /// W and ∂W/∂g.
+    pub fn gradient(&self, g: &Strains<f64>) -> (f64, Strains<f64>) {
+        gradient(|x| self.density(&x), g)
+    }
+
+    /// W, ∂W/∂g and ∂²W/∂g².
+    pub fn hessian(
+        &self,
+        g: &Strains<f64>,
+    ) -> (f64, Strains<f64>, SMatrix<f64, STRAIN_VARS, STRAIN_VARS>) {
+        hessian(|x| self.density(&x), g)
+    }
+}
+
+/// The map from element DOFs to generalised strains at the element's Gauss points.
+#[derive(Debug, Clone)]
+pub struct ElementStrains {
+    /// g = G d at each Gauss point.
+    operators: [SMatrix<f64, STRAIN_VARS, 12>; 4],
+    /// Quadrature weights (include the element length), m.
+    weights: [f64; 4],
+}
+
+impl ElementStrains {
+    pub fn new(element: &BeamElement) -> Self {
+        let (xs, weights) = super::gauss_legendre_4(element.length);
+        let operators = xs.map(|x| {
+            let n = element.interpolation(x);
+            let mut g = SMatrix::<f64, STRAIN_VARS, 12>::zeros();
+            for k in 0..6 {
+                g.set_row(k, &n.derivative.row(k));
+            }
+            g.set_row(6, &n.value.row(4));
+            g.set_row(7, &n.value.row(5));
+            g
+        });
+        ElementStrains { operators, weights }
+    }
+
+    /// Strain energy of the element in state `d`, J.
+    pub fn energy(&self, law: &StrainEnergy, d: &ElementVector) -> f64 {
+        self.operators
+            .iter()
+            .zip(self.weights)
+            .map(|(g, w)| w * law.density(&(g * d)))
+            .sum()
+    }
+
+    /// Internal force ∂U/∂d (linear and nonlinear parts), N and N·m.
+    pub fn internal_force(&self, law: &StrainEnergy, d: &ElementVector) -> ElementVector {
+        let mut f = ElementVector::zeros();
+        for (g, w) in self.operators.iter().zip(self.weights) {
+            let (_, dw) = law.gradient(&(g * d));
+            f.gemv_tr(w, g, &dw, 1.0);
+        }
+        f
+    }
+
+    /// Internal force and tangent stiffness ∂²U/∂d².
+    pub fn internal_force_and_tangent(
+        &self,
+        law: &StrainEnergy,
+        d: &ElementVector,
+    ) -> (ElementVector, ElementMatrix) {
+        let mut f = ElementVector::zeros();
+        let mut k = ElementMatrix::zeros();
+        for (g, w) in self.operators.iter().zip(self.weights) {
+            let (_, dw, h) = law.hessian(&(g * d));
+            f.gemv_tr(w, g, &dw, 1.0);
+            k += g.transpose() * (h * w) * g;
+        }
+        (f, k)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::{BeamElement, ElementVector};
+    use crate::model::Section;
+
+    /// A tiny deterministic generator (xorshift) so the tests need no RNG crate.
+    struct Rng(u64);
+    impl Rng {
+        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+        }
+    }
+
+    fn seed_string() -> Drillstring {
+        crate::problem::Problem::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/seed_mc2014.toml"
+        ))
+        .unwrap()
+        .model
+    }
+
+    /// Fields (u, v, w, θx, θy, θz) at a point and their x-derivatives.
+    #[derive(Clone, Copy)]
+    struct PointState {
+        value: [f64; 6],
+        slope: [f64; 6],
+    }
+
+    /// Displacement of the material point (x, y, z) by the kinematics of MODEL.md §2, with the
+    /// fields linear in x around x = 0.
+    fn displacement(s: &PointState, x: f64, y: f64, z: f64) -> [f64; 3] {
+        let f: Vec<f64> = (0..6).map(|i| s.value[i] + s.slope[i] * x).collect();
+        let (c, sn) = (f[3].cos(), f[3].sin());
+        let (yy, zz) = (y * c - z * sn, y * sn + z * c);
+        [f[0] - yy * f[5] + zz * f[4], f[1] + yy - y, f[2] + zz - z]
+    }
+
+    /// Reference energy per length: Green–Lagrange strains from a finite-difference displacement
+    /// gradient, integrated over the annulus by polar quadrature (3 radial Gauss × 12 angles).
+    fn reference_density(law: &StrainEnergy, s: &PointState, ri: f64, ro: f64) -> f64 {
+        let h = 1e-5;
+        let gauss = [
+            (-(0.6f64).sqrt(), 5.0 / 9.0),
+            (0.0, 8.0 / 9.0),
+            ((0.6f64).sqrt(), 5.0 / 9.0),
+        ];
+        let mut pts = Vec::new();
+        for (xi, wr) in gauss {
+            let r = 0.5 * (ro + ri) + 0.5 * (ro - ri) * xi;
+            for k in 0..12 {
+                let phi = 2.0 * PI * k as f64 / 12.0;
+                let w = wr * 0.5 * (ro - ri) * r * 2.0 * PI / 12.0;
+                pts.push((r * phi.cos(), r * phi.sin(), w));
+            }
+        }
+        let strains: Vec<(f64, f64, f64, f64)> = pts
+            .iter()
+            .map(|&(y, z, w)| {
+                let mut grad = [[0.0; 3]; 3];
+                for j in 0..3 {
+                    let mut p = [0.0, y, z];
+                    let mut m = [0.0, y, z];
+                    p[j] += h;
+                    m[j] -= h;
+                    let (up, um) = (
+                        displacement(s, p[0], p[1], p[2]),
+                        displacement(s, m[0], m[1], m[2]),
+                    );
+                    for i in 0..3 {
+                        grad[i][j] = (up[i] - um[i]) / (2.0 * h);
+                    }
+                }
+                let e = |i: usize, j: usize| {
+                    0.5 * (grad[i][j]
+                        + grad[j][i]
+                        + (0..3).map(|k| grad[k][i] * grad[k][j]).sum::<f64>())
+                };
+                (e(0, 0), 2.0 * e(0, 1), 2.0 * e(0, 2), w)
+            })
+            .collect();
+        let area: f64 = strains.iter().map(|s| s.3).sum();
+        let gy = strains.iter().map(|s| s.1 * s.3).sum::<f64>() / area;
+        let gz = strains.iter().map(|s| s.2 * s.3).sum::<f64>() / area;
+        let exx2: f64 = strains.iter().map(|s| s.0 * s.0 * s.3).sum();
+        let fluct: f64 = strains
+            .iter()
+            .map(|s| ((s.1 - gy).powi(2) + (s.2 - gz).powi(2)) * s.3)
+            .sum();
+        let shear = law.shear_factor * area * (gy * gy + gz * gz) + law.torsion_factor * fluct;
+        0.5 * (law.youngs_modulus * exx2 + law.shear_modulus * shear)
+    }
+
+    fn random_state(rng: &mut Rng, scale: f64) -> PointState {
+        let mut s = PointState {
+            value: [0.0; 6],
+            slope: [0.0; 6],
+        };
+        for i in 0..6 {
+            s.value[i] = rng.uniform(-scale, scale);
+            s.slope[i] = rng.uniform(-scale, scale);
+        }
+        s.value[3] = rng.uniform(-400.0, 400.0); // the spin: hundreds of radians
+        s
+    }
+
+    fn strains_of(s: &PointState) -> Strains<f64> {
+        Strains::from([
+            s.slope[0], s.slope[1], s.slope[2], s.slope[3], s.slope[4], s.slope[5], s.value[4],
+            s.value[5],
+        ])
+    }
+
+    #[test]
+    fn closed_form_energy_matches_the_3d_green_lagrange_reference_at_any_spin() {
+        let string = seed_string();
+        let law = StrainEnergy::of(&string);
+        let (ri, ro) = (string.pipe.inner_radius, string.pipe.outer_radius);
+        let mut rng = Rng(0x9E3779B97F4A7C15);
+        for case in 0..50 {
+            let s = random_state(&mut rng, 0.05);
+            let w = law.density(&strains_of(&s));
+            let w_ref = reference_density(&law, &s, ri, ro);
+            let rel = (w - w_ref).abs() / w_ref;
+            assert!(
+                rel < 1e-6,
+                "case {case}: closed form {w} vs 3D reference {w_ref} (rel {rel:e})"
+            );
+            // Objectivity: the reference with the spin shifted by any angle gives the same energy.
+            let mut shifted = s;
+            shifted.value[3] += rng.uniform(-10.0, 10.0);
+            let w_shift = reference_density(&law, &shifted, ri, ro);
+            assert!(
+                (w_shift - w_ref).abs() < 1e-6 * w_ref,
+                "case {case}: spin shift changed energy"
+            );
+        }
+    }
+
+    fn element() -> (BeamElement, ElementStrains, StrainEnergy) {
+        let string = seed_string();
+        let e = BeamElement::new(35.0 / 105.0, Section::of(&string));
+        let strains = ElementStrains::new(&e);
+        (e, strains, StrainEnergy::of(&string))
+    }
+
+    fn random_element_state(rng: &mut Rng, scale: f64) -> ElementVector {
+        let mut d = ElementVector::from_fn(|_, _| rng.uniform(-scale, scale));
+        d[3] = rng.uniform(-400.0, 400.0);
+        d[9] = d[3] + rng.uniform(-0.2, 0.2);
+        d
+    }
+
+    #[test]
+    fn rigid_spin_shift_leaves_element_energy_unchanged_and_rigid_motion_is_force_free() {
+        let (_, es, law) = element();
+        let mut rng = Rng(42);
+        for _ in 0..20 {
+            let d = random_element_state(&mut rng, 0.01);
+            let mut shifted = d;
+            let alpha = rng.uniform(-1e3, 1e3);
+            shifted[3] += alpha;
+            shifted[9] += alpha;
+            let (u0, u1) = (es.energy(&law, &d), es.energy(&law, &shifted));
+            // Only rounding remains: θx′ = (θx₂ − θx₁)/h loses digits when both angles are ~10³ rad
+            // (the simulator therefore evaluates strains on the elastic part of the state only).
+            assert!((u0 - u1).abs() <= 1e-10 * u0, "{u0} vs {u1}");
+        }
+        // The imposed rigid motion: u = V0 t, θx = Ω t at both nodes, with t large.
+        let mut rigid = ElementVector::zeros();
+        rigid[0] = 0.125;
+        rigid[6] = 0.125;
+        rigid[3] = 2.0 * PI * 90.0;
+        rigid[9] = 2.0 * PI * 90.0;
+        assert_eq!(es.internal_force(&law, &rigid).norm(), 0.0);
+    }
+
+    #[test]
+    fn tangent_at_rest_is_the_linear_stiffness() {
+        let (e, es, law) = element();
+        let (f, k) = es.internal_force_and_tangent(&law, &ElementVector::zeros());
+        assert_eq!(f.norm(), 0.0);
+        let k_lin = e.stiffness();
+        let scale = k_lin.abs().max();
+        assert!(
+            (k - k_lin).abs().max() < 1e-12 * scale,
+            "{}",
+            (k - k_lin).abs().max() / scale
+        );
+    }
+
+    #[test]
+    fn internal_force_and_tangent_match_finite_differences() {
+        let (_, es, law) = element();
+        let mut rng = Rng(7);
+        for _ in 0..10 {
+            let d = random_element_state(&mut rng, 5e-3);
+            let (f, k) = es.internal_force_and_tangent(&law, &d);
+            assert!((f - es.internal_force(&law, &d)).norm() <= 1e-12 * f.norm());
+            let f_scale = f.abs().max();
+            let k_scale = k.abs().max();
+            for j in 0..12 {
+                let h = 1e-7 * (1.0 + d[j].abs());
+                let (mut p, mut m) = (d, d);
+                p[j] += h;
+                m[j] -= h;
+                let fd_force = (es.energy(&law, &p) - es.energy(&law, &m)) / (2.0 * h);
+                assert!(
+                    (fd_force - f[j]).abs() < 1e-5 * f_scale,
+                    "force {j}: {fd_force} vs {}",
+                    f[j]
+                );
+                let fd_col =
+                    (es.internal_force(&law, &p) - es.internal_force(&law, &m)) / (2.0 * h);
+                let err = (fd_col - k.column(j)).abs().max();
+                assert!(
+                    err < 1e-6 * k_scale,
+                    "tangent column {j}: error {err:e} vs scale {k_scale:e}"
+                );
+            }
+        }
+    }
+}
