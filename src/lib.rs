@@ -9,6 +9,7 @@ pub mod fem;
 pub mod model;
 pub mod problem;
 pub mod rom;
+pub mod sim;
 
 /// Version of drillopt, recorded in every result file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
