@@ -12,6 +12,7 @@ mod assembly;
 mod boundary;
 mod dof;
 mod element;
+mod inertia;
 mod shape;
 mod strain_energy;
 
@@ -19,5 +20,6 @@ pub use assembly::{GlobalMatrices, assemble};
 pub use boundary::BoundaryConditions;
 pub use dof::{DOF_PER_NODE, Dof};
 pub use element::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector};
+pub use inertia::ElementInertia;
 pub use shape::{Interpolation, gauss_legendre_4};
 pub use strain_energy::{ElementStrains, STRAIN_VARS, StrainEnergy, Strains};
