@@ -6,6 +6,7 @@
 
 pub mod cli;
 pub mod fem;
+pub mod integrate;
 pub mod model;
 pub mod problem;
 pub mod rom;

@@ -2,6 +2,8 @@
 
 mod eigen;
 mod modes;
+mod reduced;
 
 pub use eigen::{EigenError, generalized_symmetric_eigen};
 pub use modes::{Family, ModalBasis, Mode};
+pub use reduced::ReducedModel;

@@ -1,0 +1,39 @@
+//! Time integration: Newmark average acceleration (γ = ½, β = ¼) with Newton iterations on the
+//! end-of-step acceleration, and a local error estimate for step-size control (MODEL.md §7).
+
+mod lu;
+mod newmark;
+
+pub use lu::{DenseLu, Singular};
+pub use newmark::{Newmark, NewmarkSettings, StepOutcome};
+
+use nalgebra::{DMatrix, DVector};
+
+/// A second-order system written as a residual r(t, q, q̇, q̈) = 0 in n unknowns.
+pub trait ImplicitSystem {
+    /// Number of unknowns n.
+    fn size(&self) -> usize;
+    /// r(t, q, q̇, q̈) into `out`.
+    fn residual(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        a: &DVector<f64>,
+        out: &mut DVector<f64>,
+    );
+    /// ∂r/∂q̈ + cv ∂r/∂q̇ + cq ∂r/∂q into `out` (may be approximate: Newton then converges
+    /// linearly). `refresh` asks for the expensive parts to be recomputed.
+    #[allow(clippy::too_many_arguments)]
+    fn jacobian(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        a: &DVector<f64>,
+        cv: f64,
+        cq: f64,
+        refresh: bool,
+        out: &mut DMatrix<f64>,
+    );
+}

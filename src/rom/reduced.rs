@@ -1,0 +1,178 @@
+//! The reduced-order model (MODEL.md §7, Eq. (20)): the full-mesh operators projected on the
+//! lowest modes Φ (mass-normalised, zero on constrained DOFs), Q = Q_rigid(t) + Φ q.
+//!
+//! The rigid motion Q_rigid (u = V0 t, θx = Ω t at every node) carries no strain and no
+//! acceleration, but the damping acts on absolute velocities (C = c M_pipe), so C Q̇_rigid projects
+//! to a constant load; and the kinetic energy has cross terms Q̇_rigidᵀ M Φ q̇.
+
+use super::{EigenError, ModalBasis};
+use crate::fem::{
+    BoundaryConditions, Dof, ElementInertia, ElementStrains, GlobalMatrices, StrainEnergy, assemble,
+};
+use crate::model::Drillstring;
+use faer::Par;
+use nalgebra::{DMatrix, DVector};
+
+/// Everything the simulator needs that does not change during a run.
+#[derive(Debug, Clone)]
+pub struct ReducedModel {
+    pub string: Drillstring,
+    pub global: GlobalMatrices,
+    pub bc: BoundaryConditions,
+    pub basis: ModalBasis,
+    /// Φ, 6(N+1) × n.
+    pub phi: DMatrix<f64>,
+    /// Λ = diag(ω²) = Φᵀ K Φ, 1/s².
+    pub omega2: DVector<f64>,
+    /// c Φᵀ M_pipe Φ, 1/s.
+    pub damping: DMatrix<f64>,
+    /// Φᵀ F_gravity.
+    pub gravity: DVector<f64>,
+    /// Φᵀ C e_u and Φᵀ C e_θx (e: unit rigid axial / spin velocity): the damping of the rigid motion.
+    pub rigid_damping: [DVector<f64>; 2],
+    /// Φᵀ M e_u and Φᵀ M e_θx: kinetic-energy coupling of the rigid motion with the modes.
+    pub rigid_mass: [DVector<f64>; 2],
+    /// e_uᵀ C e_u, e_θᵀ C e_θ (pipe mass and polar inertia times c, for dissipation of the rigid motion).
+    pub rigid_self_damping: [f64; 2],
+    /// e_uᵀ M e_u, e_θᵀ M e_θ.
+    pub rigid_self_mass: [f64; 2],
+    /// Φᵀ G Φ, the gyroscopic matrix per unit spin rate (skew-symmetric).
+    pub gyroscopic: DMatrix<f64>,
+    pub strain_law: StrainEnergy,
+    pub element_strains: ElementStrains,
+    pub element_inertia: ElementInertia,
+}
+
+fn to_na(m: &faer::Mat<f64>) -> DMatrix<f64> {
+    DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)])
+}
+
+impl ReducedModel {
+    /// Assemble, take the `modes` lowest modes and project.
+    pub fn new(string: &Drillstring, elements: usize, modes: usize) -> Result<Self, EigenError> {
+        let global = assemble(string, elements);
+        let bc = BoundaryConditions::drillstring(elements);
+        let basis = ModalBasis::of(&global, &bc, modes, Par::Seq)?;
+        let phi = to_na(&basis.shapes);
+        let mass = to_na(&global.mass);
+        let pipe_mass = to_na(&global.pipe_mass);
+        let omega2 = DVector::from_iterator(modes, basis.modes.iter().map(|m| m.omega * m.omega));
+        let damping = phi.transpose() * (&pipe_mass * &phi) * string.damping;
+        let gravity = phi.transpose() * DVector::from_fn(global.dof(), |i, _| global.gravity[i]);
+        let unit = |dof: Dof| {
+            DVector::from_fn(global.dof(), |i, _| {
+                if Dof::of_index(i) == dof { 1.0 } else { 0.0 }
+            })
+        };
+        let (eu, et) = (unit(Dof::U), unit(Dof::ThetaX));
+        let c = &pipe_mass * string.damping;
+        let rigid_damping = [phi.transpose() * (&c * &eu), phi.transpose() * (&c * &et)];
+        let rigid_mass = [
+            phi.transpose() * (&mass * &eu),
+            phi.transpose() * (&mass * &et),
+        ];
+        let rigid_self_damping = [eu.dot(&(&c * &eu)), et.dot(&(&c * &et))];
+        let rigid_self_mass = [eu.dot(&(&mass * &eu)), et.dot(&(&mass * &et))];
+        let element_inertia = ElementInertia::new(&global.element);
+        let g_e = element_inertia.gyroscopic();
+        let mut gyroscopic = DMatrix::zeros(modes, modes);
+        for e in 0..elements {
+            let phi_e = phi.rows(6 * e, 12);
+            gyroscopic += phi_e.transpose() * (g_e * phi_e);
+        }
+        let strain_law = StrainEnergy::of(string);
+        let element_strains = ElementStrains::new(&global.element);
+        Ok(ReducedModel {
+            string: string.clone(),
+            global,
+            bc,
+            basis,
+            phi,
+            omega2,
+            damping,
+            gravity,
+            rigid_damping,
+            rigid_mass,
+            rigid_self_damping,
+            rigid_self_mass,
+            gyroscopic,
+            strain_law,
+            element_strains,
+            element_inertia,
+        })
+    }
+
+    /// Number of reduced coordinates n.
+    pub fn size(&self) -> usize {
+        self.phi.ncols()
+    }
+
+    /// Number of elements N.
+    pub fn elements(&self) -> usize {
+        self.global.elements
+    }
+
+    /// Number of nodes N + 1.
+    pub fn nodes(&self) -> usize {
+        self.global.elements + 1
+    }
+
+    /// Φᵀ K_t(Φq) Φ: the projected tangent of the internal force at the elastic state `q_full`
+    /// (Φq on the full mesh), added into `out` (n × n); `scratch` is 12 × n.
+    pub fn add_strain_tangent(
+        &self,
+        q_full: &DVector<f64>,
+        out: &mut DMatrix<f64>,
+        scratch: &mut DMatrix<f64>,
+    ) {
+        for e in 0..self.elements() {
+            let d = crate::fem::ElementVector::from_fn(|i, _| q_full[6 * e + i]);
+            let (_, k) = self
+                .element_strains
+                .internal_force_and_tangent(&self.strain_law, &d);
+            let phi_e = self.phi.rows(6 * e, 12);
+            scratch.gemm(1.0, &k, &phi_e, 0.0);
+            out.gemm_tr(1.0, &phi_e, &*scratch, 1.0);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn projected_operators_are_consistent() {
+        let p = crate::problem::Problem::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/seed_mc2014.toml"
+        ))
+        .unwrap();
+        let r = ReducedModel::new(&p.model, 30, 20).unwrap();
+        // Tangent at rest = Φᵀ K Φ = Λ.
+        let mut kt = DMatrix::zeros(20, 20);
+        let mut scratch = DMatrix::zeros(12, 20);
+        r.add_strain_tangent(&DVector::zeros(r.phi.nrows()), &mut kt, &mut scratch);
+        for i in 0..20 {
+            for j in 0..20 {
+                let expected = if i == j { r.omega2[i] } else { 0.0 };
+                assert!(
+                    (kt[(i, j)] - expected).abs() < 1e-8 * r.omega2.max(),
+                    "Kt[{i},{j}] = {}",
+                    kt[(i, j)]
+                );
+            }
+        }
+        // Gyroscopic matrix is skew; the rigid masses are the string's mass and polar inertia.
+        assert!(
+            (&r.gyroscopic + r.gyroscopic.transpose()).abs().max()
+                < 1e-12 * r.gyroscopic.abs().max().max(1e-30)
+        );
+        let l = p.model.length;
+        let sec = crate::model::Section::of(&p.model);
+        assert!((r.rigid_self_mass[0] - sec.pipe_mass * l).abs() < 1e-10 * sec.pipe_mass * l);
+        assert!(
+            (r.rigid_self_mass[1] - sec.polar_inertia * l).abs() < 1e-10 * sec.polar_inertia * l
+        );
+    }
+}
