@@ -9,6 +9,14 @@ pub use newmark::{Newmark, NewmarkSettings, StepOutcome};
 
 use nalgebra::{DMatrix, DVector};
 
+/// Weights of the Jacobian blocks: ca ∂r/∂q̈ + cv ∂r/∂q̇ + cq ∂r/∂q.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JacobianCoefficients {
+    pub ca: f64,
+    pub cv: f64,
+    pub cq: f64,
+}
+
 /// A second-order system written as a residual r(t, q, q̇, q̈) = 0 in n unknowns.
 pub trait ImplicitSystem {
     /// Number of unknowns n.
@@ -22,17 +30,15 @@ pub trait ImplicitSystem {
         a: &DVector<f64>,
         out: &mut DVector<f64>,
     );
-    /// ∂r/∂q̈ + cv ∂r/∂q̇ + cq ∂r/∂q into `out` (may be approximate: Newton then converges
+    /// ca ∂r/∂q̈ + cv ∂r/∂q̇ + cq ∂r/∂q into `out` (may be approximate: Newton then converges
     /// linearly). `refresh` asks for the expensive parts to be recomputed.
-    #[allow(clippy::too_many_arguments)]
     fn jacobian(
         &mut self,
         t: f64,
         q: &DVector<f64>,
         v: &DVector<f64>,
         a: &DVector<f64>,
-        cv: f64,
-        cq: f64,
+        coefficients: JacobianCoefficients,
         refresh: bool,
         out: &mut DMatrix<f64>,
     );

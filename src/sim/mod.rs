@@ -3,8 +3,15 @@
 
 mod bit_rock;
 mod contact;
+mod dynamics;
+mod run;
 mod series;
 
 pub use bit_rock::{BitLoad, bit_rock, xi};
 pub use contact::{NodeContact, wall_contact};
+pub use dynamics::{Dynamics, Effects, Observation};
+pub use run::{
+    InitialState, RunOutput, RunSettings, SimulationError, SolverStats, simulate,
+    static_equilibrium,
+};
 pub use series::TimeSeries;

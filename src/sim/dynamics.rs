@@ -1,0 +1,348 @@
+//! The reduced drillstring equations as an [`ImplicitSystem`] (MODEL.md §3–§7):
+//!
+//!   r(q, q̇, q̈) = q̈ + D q̇ + Φᵀ C Q̇_rigid − Φᵀ F_g
+//!               + Φᵀ [ f_int(Φq) + f_gyro(Q, Q̇, Q̈) − F_wall(Q, Q̇) − F_bit(Q̇) ] = 0,
+//!
+//! with Q = Q_rigid(t) + Φq, Q̇_rigid = V0 on every u and Ω on every θx. The internal force is
+//! evaluated on the elastic part Φq only: the rigid motion adds no strain, and keeping the large
+//! spin angle out of the strain evaluation avoids cancellation. Nonlinear forces are computed on
+//! the full mesh and projected (Φᵀ).
+
+use super::{BitLoad, NodeContact, bit_rock, wall_contact};
+use crate::fem::{Dof, ElementVector};
+use crate::integrate::{ImplicitSystem, JacobianCoefficients};
+use crate::model::OperatingPoint;
+use crate::rom::ReducedModel;
+use nalgebra::{DMatrix, DVector};
+
+/// Which physical effects are on (all on for a real run; tests switch some off).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Effects {
+    pub damping: bool,
+    pub gravity: bool,
+    pub wall: bool,
+    pub bit: bool,
+}
+
+impl Effects {
+    pub const ALL: Effects = Effects {
+        damping: true,
+        gravity: true,
+        wall: true,
+        bit: true,
+    };
+    pub const NONE: Effects = Effects {
+        damping: false,
+        gravity: false,
+        wall: false,
+        bit: false,
+    };
+}
+
+/// Quantities observed at a state, for the time history and the energy balance.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Observation {
+    pub bit: BitLoad,
+    /// Bit axial velocity u̇(L) and spin rate θ̇x(L).
+    pub bit_velocity: f64,
+    pub bit_spin: f64,
+    /// Elastic bit displacement and rotation (add the rigid V0 t, Ω t for absolute values).
+    pub bit_u_elastic: f64,
+    pub bit_theta_elastic: f64,
+    pub top_force: f64,
+    pub top_torque: f64,
+    pub nodes_in_contact: u32,
+    pub wall_force_total: f64,
+    pub wall_force_max: f64,
+    pub max_radial_over_gap: f64,
+    pub kinetic_energy: f64,
+    pub potential_energy: f64,
+    /// Power dissipated (damping, wall damping and friction), W.
+    pub dissipation: f64,
+    /// Power of the top drive F_top V0 + T_top Ω, W.
+    pub power_top: f64,
+    /// Power of the rock on the string F_BR u̇ + T_BR θ̇, W.
+    pub power_bit: f64,
+}
+
+/// The drillstring system at one operating point, with its work buffers.
+pub struct Dynamics<'m> {
+    pub model: &'m ReducedModel,
+    pub op: OperatingPoint,
+    pub effects: Effects,
+    gap: f64,
+    q_full: DVector<f64>,
+    v_full: DVector<f64>,
+    a_full: DVector<f64>,
+    f_full: DVector<f64>,
+    /// Cached Φᵀ K_t Φ (refreshed on request).
+    strain_tangent: DMatrix<f64>,
+    scratch: DMatrix<f64>,
+    /// Contact state per node (index = node), from the last residual evaluation.
+    pub contacts: Vec<NodeContact>,
+    pub bit: BitLoad,
+}
+
+impl<'m> Dynamics<'m> {
+    pub fn new(model: &'m ReducedModel, op: OperatingPoint, effects: Effects) -> Self {
+        let (ndof, n) = (model.phi.nrows(), model.size());
+        Dynamics {
+            model,
+            op,
+            effects,
+            gap: model.string.gap(),
+            q_full: DVector::zeros(ndof),
+            v_full: DVector::zeros(ndof),
+            a_full: DVector::zeros(ndof),
+            f_full: DVector::zeros(ndof),
+            strain_tangent: DMatrix::from_diagonal(&model.omega2),
+            scratch: DMatrix::zeros(12, n),
+            contacts: vec![NodeContact::default(); model.nodes()],
+            bit: BitLoad::default(),
+        }
+    }
+
+    /// Full-mesh elastic displacement, absolute velocity and acceleration from (q, q̇, q̈).
+    fn expand(&mut self, q: &DVector<f64>, v: &DVector<f64>, a: &DVector<f64>) {
+        let phi = &self.model.phi;
+        self.q_full.gemv(1.0, phi, q, 0.0);
+        self.v_full.gemv(1.0, phi, v, 0.0);
+        self.a_full.gemv(1.0, phi, a, 0.0);
+        for node in 0..self.model.nodes() {
+            self.v_full[Dof::U.at(node)] += self.op.v0;
+            self.v_full[Dof::ThetaX.at(node)] += self.op.omega;
+        }
+    }
+
+    fn element_state(x: &DVector<f64>, e: usize) -> ElementVector {
+        ElementVector::from_fn(|i, _| x[6 * e + i])
+    }
+
+    /// f_full = f_int + f_gyro − F_wall − F_bit on the full mesh (expand first).
+    fn full_forces(&mut self) {
+        self.f_full.fill(0.0);
+        let m = self.model;
+        for e in 0..m.elements() {
+            let (d, v, a) = (
+                Self::element_state(&self.q_full, e),
+                Self::element_state(&self.v_full, e),
+                Self::element_state(&self.a_full, e),
+            );
+            let f = m.element_strains.internal_force(&m.strain_law, &d)
+                + m.element_inertia.force(&d, &v, &a);
+            for i in 0..12 {
+                self.f_full[6 * e + i] += f[i];
+            }
+        }
+        let (law, rbh) = (&m.string.wall, m.string.borehole_radius);
+        for node in 0..m.nodes() {
+            let (iv, iw, it) = (Dof::V.at(node), Dof::W.at(node), Dof::ThetaX.at(node));
+            let c = if self.effects.wall {
+                wall_contact(
+                    law,
+                    self.gap,
+                    rbh,
+                    [self.q_full[iv], self.q_full[iw]],
+                    [self.v_full[iv], self.v_full[iw]],
+                    self.v_full[it],
+                )
+            } else {
+                NodeContact::default()
+            };
+            self.f_full[iv] -= c.force[0];
+            self.f_full[iw] -= c.force[1];
+            self.f_full[it] -= c.torque;
+            self.contacts[node] = c;
+        }
+        let bit_node = m.elements();
+        let (iu, it) = (Dof::U.at(bit_node), Dof::ThetaX.at(bit_node));
+        self.bit = if self.effects.bit {
+            bit_rock(&m.string.bit, self.v_full[iu], self.v_full[it])
+        } else {
+            BitLoad::default()
+        };
+        self.f_full[iu] -= self.bit.force;
+        self.f_full[it] -= self.bit.torque;
+    }
+
+    /// What the time history records at a state.
+    pub fn observe(&mut self, q: &DVector<f64>, v: &DVector<f64>, a: &DVector<f64>) -> Observation {
+        self.expand(q, v, a);
+        self.full_forces();
+        let m = self.model;
+        let (v0, om) = (self.op.v0, self.op.omega);
+        // Top-drive load = global balance of the string along the rigid motion:
+        // F_top = e_uᵀ(M Q̈ + C Q̇ + f − F), T_top = e_θᵀ(…). In the reduced model only Φᵀ R = 0
+        // holds, so this (not the local reaction of element 0) is the load whose power
+        // Q̇_rigidᵀ R closes the energy balance; e_uᵀ f_int = e_θᵀ f_int = 0 exactly (the strain
+        // energy is invariant under rigid translation and spin).
+        let c = if self.effects.damping { 1.0 } else { 0.0 };
+        let mut resultant = [0.0; 2];
+        for node in 0..m.nodes() {
+            resultant[0] += self.f_full[Dof::U.at(node)];
+            resultant[1] += self.f_full[Dof::ThetaX.at(node)];
+        }
+        let rigid = [v0, om];
+        let top = |k: usize| {
+            resultant[k]
+                + m.rigid_mass[k].dot(a)
+                + c * (m.rigid_damping[k].dot(v) + rigid[k] * m.rigid_self_damping[k])
+        };
+        let (top_force, top_torque) = (top(0), top(1));
+        // Energies.
+        let mut kinetic = 0.5 * v.norm_squared();
+        let mut dissipation = 0.0;
+        for k in 0..2 {
+            kinetic += rigid[k] * m.rigid_mass[k].dot(v)
+                + 0.5 * rigid[k] * rigid[k] * m.rigid_self_mass[k];
+            if self.effects.damping {
+                dissipation += 2.0 * rigid[k] * m.rigid_damping[k].dot(v)
+                    + rigid[k] * rigid[k] * m.rigid_self_damping[k];
+            }
+        }
+        if self.effects.damping {
+            dissipation += v.dot(&(&m.damping * v));
+        }
+        let mut strain = 0.0;
+        for e in 0..m.elements() {
+            let d = Self::element_state(&self.q_full, e);
+            let ve = Self::element_state(&self.v_full, e);
+            strain += m.element_strains.energy(&m.strain_law, &d);
+            kinetic += m.element_inertia.energy(&d, &ve);
+        }
+        let mut obs = Observation {
+            top_force,
+            top_torque,
+            ..Default::default()
+        };
+        let mut wall_elastic = 0.0;
+        for (node, c) in self.contacts.iter().enumerate() {
+            let r = self.q_full[Dof::V.at(node)].hypot(self.q_full[Dof::W.at(node)]);
+            obs.max_radial_over_gap = obs.max_radial_over_gap.max(r / self.gap);
+            if c.active {
+                obs.nodes_in_contact += 1;
+                obs.wall_force_total += c.normal.abs();
+                obs.wall_force_max = obs.wall_force_max.max(c.normal.abs());
+                wall_elastic += c.elastic_energy;
+                dissipation += c.dissipation;
+            }
+        }
+        let gravity = if self.effects.gravity {
+            -m.gravity.dot(q)
+        } else {
+            0.0
+        };
+        let bit_node = m.elements();
+        obs.bit = self.bit;
+        obs.bit_velocity = self.v_full[Dof::U.at(bit_node)];
+        obs.bit_spin = self.v_full[Dof::ThetaX.at(bit_node)];
+        obs.bit_u_elastic = self.q_full[Dof::U.at(bit_node)];
+        obs.bit_theta_elastic = self.q_full[Dof::ThetaX.at(bit_node)];
+        obs.kinetic_energy = kinetic;
+        obs.potential_energy = strain + wall_elastic + gravity;
+        obs.dissipation = dissipation;
+        obs.power_top = top_force * v0 + top_torque * om;
+        obs.power_bit = self.bit.force * obs.bit_velocity + self.bit.torque * obs.bit_spin;
+        obs
+    }
+
+    /// Elastic radial displacement at position x (interpolated linearly between nodes), m.
+    pub fn radial_at(&self, x: f64) -> f64 {
+        let h = self.model.global.element.length;
+        let s = (x / h).clamp(0.0, self.model.elements() as f64);
+        let i = (s.floor() as usize).min(self.model.elements() - 1);
+        let f = s - i as f64;
+        let r = |n: usize| self.q_full[Dof::V.at(n)].hypot(self.q_full[Dof::W.at(n)]);
+        (1.0 - f) * r(i) + f * r(i + 1)
+    }
+}
+
+impl ImplicitSystem for Dynamics<'_> {
+    fn size(&self) -> usize {
+        self.model.size()
+    }
+
+    fn residual(
+        &mut self,
+        _t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        a: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        self.expand(q, v, a);
+        self.full_forces();
+        let m = self.model;
+        out.gemv_tr(1.0, &m.phi, &self.f_full, 0.0);
+        *out += a;
+        if self.effects.damping {
+            out.gemv(1.0, &m.damping, v, 1.0);
+            out.axpy(self.op.v0, &m.rigid_damping[0], 1.0);
+            out.axpy(self.op.omega, &m.rigid_damping[1], 1.0);
+        }
+        if self.effects.gravity {
+            *out -= &m.gravity;
+        }
+    }
+
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        a: &DVector<f64>,
+        c: JacobianCoefficients,
+        refresh: bool,
+        out: &mut DMatrix<f64>,
+    ) {
+        let m = self.model;
+        if refresh {
+            self.expand(q, v, a);
+            self.strain_tangent.fill(0.0);
+            m.add_strain_tangent(&self.q_full, &mut self.strain_tangent, &mut self.scratch);
+        }
+        out.copy_from(&self.strain_tangent);
+        *out *= c.cq;
+        for i in 0..out.nrows() {
+            out[(i, i)] += c.ca;
+        }
+        if self.effects.damping {
+            out.zip_apply(&m.damping, |x, y| *x += c.cv * y);
+        }
+        let g = c.cv * self.op.omega;
+        out.zip_apply(&m.gyroscopic, |x, y| *x += g * y);
+        // Wall contact at the nodes touching, from the last residual evaluation: −∂F/∂(q, q̇).
+        let phi = &m.phi;
+        for (node, k) in self.contacts.iter().enumerate() {
+            if !k.active {
+                continue;
+            }
+            let rows = [Dof::V.at(node), Dof::W.at(node)];
+            for a_ in 0..2 {
+                for b in 0..2 {
+                    let w = -(c.cq * k.stiffness[a_][b] + c.cv * k.damping[a_][b]);
+                    if w != 0.0 {
+                        out.ger(
+                            w,
+                            &phi.row(rows[a_]).transpose(),
+                            &phi.row(rows[b]).transpose(),
+                            1.0,
+                        );
+                    }
+                }
+            }
+        }
+        // Bit: −∂(F, T)/∂(u̇, θ̇) at the bit node.
+        let bit_node = m.elements();
+        let (ru, rt) = (
+            phi.row(Dof::U.at(bit_node)).transpose(),
+            phi.row(Dof::ThetaX.at(bit_node)).transpose(),
+        );
+        let b = self.bit;
+        if b.dforce_dvel != 0.0 {
+            out.ger(-c.cv * b.dforce_dvel, &ru, &ru, 1.0);
+            out.ger(-c.cv * b.dtorque_dvel, &rt, &ru, 1.0);
+            out.ger(-c.cv * b.dtorque_dspin, &rt, &rt, 1.0);
+        }
+    }
+}

@@ -1,0 +1,363 @@
+//! One run: static equilibrium under gravity with wall contact, then the adaptive Newmark march
+//! from the rigid velocity field (MODEL.md §4, §7), recording a [`TimeSeries`].
+//!
+//! Step control: a step is accepted when Newton converges and the local error estimate is ≤ 1;
+//! the next step is h · clamp(0.9 err^(−1/3), 0.3, 2), never above the nominal step. A failed
+//! Newton iteration divides the step by 4. This refines automatically around impacts (where the
+//! acceleration jumps) and coarsens again afterwards. A run that cannot go on (step below the
+//! minimum, non-finite state, divergence) stops with an error and keeps what it had recorded.
+
+use super::{Dynamics, Effects, Observation, TimeSeries};
+use crate::fem::Dof;
+use crate::integrate::{
+    DenseLu, ImplicitSystem, JacobianCoefficients, Newmark, NewmarkSettings, StepOutcome,
+};
+use crate::model::OperatingPoint;
+use crate::rom::ReducedModel;
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+use std::time::Instant;
+
+/// Time window and step control of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSettings {
+    /// Simulated duration, s.
+    pub duration: f64,
+    /// Nominal (largest) time step, s.
+    pub max_step: f64,
+    /// Smallest step before the run is declared failed, s.
+    pub min_step: f64,
+    /// Radial-displacement probe positions, m.
+    pub probes: Vec<f64>,
+    pub newmark: NewmarkSettings,
+    /// A lateral displacement beyond this many gaps means the run diverged.
+    pub divergence_gaps: f64,
+}
+
+impl RunSettings {
+    pub fn new(duration: f64, max_step: f64) -> Self {
+        RunSettings {
+            duration,
+            max_step,
+            min_step: 1e-9,
+            probes: Vec::new(),
+            newmark: NewmarkSettings::default(),
+            divergence_gaps: 50.0,
+        }
+    }
+}
+
+/// Where a run starts.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InitialState {
+    /// Static equilibrium under gravity with wall contact, then the rigid velocity field.
+    StaticEquilibrium,
+    /// Given modal displacements and velocities (relative to the rigid motion).
+    Given { q: DVector<f64>, v: DVector<f64> },
+}
+
+/// Counters of the integrator.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct SolverStats {
+    pub steps: usize,
+    pub rejected_steps: usize,
+    pub newton_iterations: usize,
+    pub min_dt: f64,
+    pub max_dt: f64,
+    pub static_iterations: usize,
+    pub wall_time_s: f64,
+}
+
+/// Why a run stopped early.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimulationError {
+    #[error(
+        "static equilibrium under gravity did not converge in {iterations} Newton iterations (last update {update:e} m)"
+    )]
+    StaticEquilibrium { iterations: usize, update: f64 },
+    #[error("at t = {time:.6} s the time step fell below {min_step:e} s ({reason})")]
+    StepTooSmall {
+        time: f64,
+        min_step: f64,
+        reason: String,
+    },
+    #[error("at t = {time:.6} s the state became non-finite")]
+    NonFinite { time: f64 },
+    #[error(
+        "at t = {time:.6} s the run diverged: lateral displacement {radial_over_gap:.1} times the gap"
+    )]
+    Diverged { time: f64, radial_over_gap: f64 },
+}
+
+/// The outcome of a run: what was recorded, solver counters, and the error that stopped it, if any.
+#[derive(Debug, Clone)]
+pub struct RunOutput {
+    pub series: TimeSeries,
+    pub stats: SolverStats,
+    pub error: Option<SimulationError>,
+    /// Final modal state (q, q̇).
+    pub final_state: (DVector<f64>, DVector<f64>),
+}
+
+/// Static equilibrium under gravity with wall contact (no motion, no bit): Newton on ∂r/∂q with
+/// each update limited to half the radial gap at any node.
+pub fn static_equilibrium(model: &ReducedModel) -> Result<(DVector<f64>, usize), SimulationError> {
+    let effects = Effects {
+        damping: false,
+        gravity: true,
+        wall: true,
+        bit: false,
+    };
+    let mut sys = Dynamics::new(
+        model,
+        OperatingPoint {
+            omega: 0.0,
+            v0: 0.0,
+        },
+        effects,
+    );
+    let n = model.size();
+    let (mut q, zero) = (DVector::zeros(n), DVector::zeros(n));
+    let (mut r, mut j, mut lu) = (DVector::zeros(n), DMatrix::zeros(n, n), DenseLu::new(n));
+    let gap = model.string.gap();
+    let mut dq_full = DVector::zeros(model.phi.nrows());
+    let coefficients = JacobianCoefficients {
+        ca: 0.0,
+        cv: 0.0,
+        cq: 1.0,
+    };
+    let mut update = f64::INFINITY;
+    let mut trial = DVector::zeros(n);
+    let mut r_trial = DVector::zeros(n);
+    sys.residual(0.0, &q, &zero, &zero, &mut r);
+    for it in 1..=STATIC_ITERATIONS {
+        let r_norm = r.norm();
+        sys.jacobian(0.0, &q, &zero, &zero, coefficients, true, &mut j);
+        if lu.factor(&j).is_err() {
+            break;
+        }
+        let mut dir = r.clone();
+        lu.solve_in_place(&mut dir);
+        dq_full.gemv(1.0, &model.phi, &dir, 0.0);
+        let largest = (0..model.nodes())
+            .map(|k| dq_full[Dof::V.at(k)].hypot(dq_full[Dof::W.at(k)]))
+            .fold(0.0, f64::max);
+        // Limit the lateral update to half the gap, then backtrack until the residual falls.
+        let mut alpha = if largest > 0.5 * gap {
+            0.5 * gap / largest
+        } else {
+            1.0
+        };
+        loop {
+            trial.copy_from(&q);
+            trial.axpy(-alpha, &dir, 1.0);
+            sys.residual(0.0, &trial, &zero, &zero, &mut r_trial);
+            if r_trial.norm() < r_norm || alpha < 1e-3 {
+                break;
+            }
+            alpha *= 0.5;
+        }
+        q.copy_from(&trial);
+        r.copy_from(&r_trial);
+        update = alpha * largest;
+        if !update.is_finite() {
+            break;
+        }
+        if alpha == 1.0 && update < 1e-12 {
+            return Ok((q, it));
+        }
+    }
+    Err(SimulationError::StaticEquilibrium {
+        iterations: STATIC_ITERATIONS,
+        update,
+    })
+}
+
+/// Newton iterations allowed for the static equilibrium.
+const STATIC_ITERATIONS: usize = 300;
+
+/// Accumulates the time history.
+struct Recorder {
+    series: TimeSeries,
+    active: Vec<bool>,
+    onsets: u64,
+    last: Option<Observation>,
+}
+
+impl Recorder {
+    fn push(
+        &mut self,
+        t: f64,
+        op: &OperatingPoint,
+        obs: Observation,
+        sys: &Dynamics,
+        probes: &[f64],
+    ) {
+        let s = &mut self.series;
+        for (node, c) in sys.contacts.iter().enumerate() {
+            if c.active && !self.active[node] && self.last.is_some() {
+                self.onsets += 1;
+            }
+            self.active[node] = c.active;
+        }
+        let (work_top, work_bit, dissipated) = match (&self.last, s.t.last()) {
+            (Some(prev), Some(&t0)) => {
+                let h = t - t0;
+                let (wt, wb, d) = (
+                    s.work_top.last().unwrap(),
+                    s.work_bit.last().unwrap(),
+                    s.dissipated.last().unwrap(),
+                );
+                (
+                    wt + 0.5 * h * (prev.power_top + obs.power_top),
+                    wb + 0.5 * h * (prev.power_bit + obs.power_bit),
+                    d + 0.5 * h * (prev.dissipation + obs.dissipation),
+                )
+            }
+            _ => (0.0, 0.0, 0.0),
+        };
+        s.t.push(t);
+        s.bit_displacement.push(op.v0 * t + obs.bit_u_elastic);
+        s.bit_velocity.push(obs.bit_velocity);
+        s.bit_rotation.push(op.omega * t + obs.bit_theta_elastic);
+        s.bit_angular_velocity.push(obs.bit_spin);
+        s.weight_on_bit.push(-obs.bit.force);
+        s.torque_on_bit.push(-obs.bit.torque);
+        s.top_force.push(obs.top_force);
+        s.top_torque.push(obs.top_torque);
+        for (k, &x) in probes.iter().enumerate() {
+            s.probe_radial[k].push(sys.radial_at(x));
+        }
+        s.nodes_in_contact.push(obs.nodes_in_contact);
+        s.contact_onsets.push(self.onsets);
+        s.wall_force_total.push(obs.wall_force_total);
+        s.wall_force_max.push(obs.wall_force_max);
+        s.max_radial_over_gap.push(obs.max_radial_over_gap);
+        s.kinetic_energy.push(obs.kinetic_energy);
+        s.potential_energy.push(obs.potential_energy);
+        s.work_top.push(work_top);
+        s.work_bit.push(work_bit);
+        s.dissipated.push(dissipated);
+        self.last = Some(obs);
+    }
+}
+
+/// Run the model at operating point `op` with the given effects.
+pub fn simulate(
+    model: &ReducedModel,
+    op: OperatingPoint,
+    effects: Effects,
+    settings: &RunSettings,
+    initial: InitialState,
+    mut progress: impl FnMut(f64),
+) -> RunOutput {
+    let clock = Instant::now();
+    let n = model.size();
+    let mut stats = SolverStats {
+        min_dt: f64::INFINITY,
+        ..Default::default()
+    };
+    let series = TimeSeries {
+        probe_positions: settings.probes.clone(),
+        probe_radial: vec![Vec::new(); settings.probes.len()],
+        ..Default::default()
+    };
+    let mut rec = Recorder {
+        series,
+        active: vec![false; model.nodes()],
+        onsets: 0,
+        last: None,
+    };
+    let (q0, v0) = match initial {
+        InitialState::Given { q, v } => (q, v),
+        InitialState::StaticEquilibrium => match static_equilibrium(model) {
+            Ok((q, iterations)) => {
+                stats.static_iterations = iterations;
+                (q, DVector::zeros(n))
+            }
+            Err(e) => {
+                stats.wall_time_s = clock.elapsed().as_secs_f64();
+                let z = DVector::zeros(n);
+                return RunOutput {
+                    series: rec.series,
+                    stats,
+                    error: Some(e),
+                    final_state: (z.clone(), z),
+                };
+            }
+        },
+    };
+    let mut sys = Dynamics::new(model, op, effects);
+    // Energy-norm weights: ω_i, floored at the lowest mode's so that no coordinate is ignored.
+    let floor = model.omega2.min().max(1e-12).sqrt();
+    let weights = model.omega2.map(|w2| w2.sqrt().max(floor));
+    let mut nm =
+        Newmark::new(settings.newmark, 0.0, q0, v0, DVector::zeros(n)).with_weights(weights);
+    let mut error = None;
+    if !nm.consistent_acceleration(&mut sys) {
+        error = Some(SimulationError::NonFinite { time: 0.0 });
+    }
+    let obs = sys.observe(&nm.q, &nm.v, &nm.a);
+    rec.push(0.0, &op, obs, &sys, &settings.probes);
+    let mut h = settings.max_step.min(settings.duration) * 0.01;
+    while error.is_none() && nm.t < settings.duration * (1.0 - 1e-12) {
+        h = h.min(settings.max_step).min(settings.duration - nm.t);
+        match nm.attempt(&mut sys, h) {
+            StepOutcome::Converged {
+                iterations,
+                error: err,
+            } if err <= 1.0 => {
+                stats.newton_iterations += iterations;
+                nm.accept(h);
+                stats.steps += 1;
+                stats.min_dt = stats.min_dt.min(h);
+                stats.max_dt = stats.max_dt.max(h);
+                let obs = sys.observe(&nm.q, &nm.v, &nm.a);
+                let ratio = obs.max_radial_over_gap;
+                rec.push(nm.t, &op, obs, &sys, &settings.probes);
+                if ratio > settings.divergence_gaps {
+                    error = Some(SimulationError::Diverged {
+                        time: nm.t,
+                        radial_over_gap: ratio,
+                    });
+                }
+                progress(nm.t);
+                h *= (0.9 * err.max(1e-10).powf(-1.0 / 3.0)).clamp(0.3, 2.0);
+            }
+            StepOutcome::Converged {
+                iterations,
+                error: err,
+            } => {
+                stats.newton_iterations += iterations;
+                stats.rejected_steps += 1;
+                h *= (0.9 * err.powf(-1.0 / 3.0)).clamp(0.1, 0.7);
+            }
+            StepOutcome::Failed { iterations } => {
+                stats.newton_iterations += iterations;
+                stats.rejected_steps += 1;
+                h *= 0.25;
+                nm.mark_stale();
+            }
+        }
+        if error.is_none() && h < settings.min_step {
+            error = Some(SimulationError::StepTooSmall {
+                time: nm.t,
+                min_step: settings.min_step,
+                reason: "Newton or the error test kept failing".into(),
+            });
+        }
+        if error.is_none() && !nm.q.iter().chain(nm.v.iter()).all(|x| x.is_finite()) {
+            error = Some(SimulationError::NonFinite { time: nm.t });
+        }
+    }
+    stats.wall_time_s = clock.elapsed().as_secs_f64();
+    if stats.steps == 0 {
+        stats.min_dt = 0.0;
+    }
+    RunOutput {
+        series: rec.series,
+        stats,
+        error,
+        final_state: (nm.q.clone(), nm.v.clone()),
+    }
+}
