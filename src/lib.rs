@@ -7,8 +7,10 @@
 pub mod cli;
 pub mod fem;
 pub mod integrate;
+pub mod metrics;
 pub mod model;
 pub mod problem;
+pub mod report;
 pub mod rom;
 pub mod sim;
 

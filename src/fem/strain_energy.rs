@@ -96,9 +96,115 @@ impl StrainEnergy {
         (exx2 * self.youngs_modulus + shear * self.shear_modulus) * half
     }
 
-    /// W and ∂W/∂g.
-    pub fn gradient(&self, g: &Strains<f64>) -> (f64, Strains<f64>) {
+    /// W and ∂W/∂g by automatic differentiation (the reference for [`Self::gradient`]).
+    pub fn gradient_ad(&self, g: &Strains<f64>) -> (f64, Strains<f64>) {
         gradient(|x| self.density(&x), g)
+    }
+
+    /// W and ∂W/∂g, differentiated by hand in reverse mode through the same intermediate
+    /// quantities as [`Self::density`] (the time-step loop's hot path; checked against AD).
+    pub fn gradient(&self, g: &Strains<f64>) -> (f64, Strains<f64>) {
+        let [du, dv, dw, dtx, dty, dtz, ty, tz] = [g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7]];
+        let (a_, i_, k4) = (self.area, self.second_moment, self.fourth_moment);
+        let e0 = du;
+        let k1 = dtx * ty - dtz;
+        let k2 = dty + dtx * tz;
+        let c0 = e0 + 0.5 * (e0 * e0 + dv * dv + dw * dw);
+        let c1 = k1 * (1.0 + e0) + dw * dtx;
+        let c2 = k2 * (1.0 + e0) - dv * dtx;
+        let c3 = 0.5 * (k1 * k1 + dtx * dtx);
+        let c4 = k1 * k2;
+        let c5 = 0.5 * (k2 * k2 + dtx * dtx);
+        let exx2 = a_ * c0 * c0
+            + 2.0 * i_ * c0 * (c3 + c5)
+            + i_ * (c1 * c1 + c2 * c2)
+            + 3.0 * k4 * (c3 * c3 + c5 * c5)
+            + 2.0 * k4 * c3 * c5
+            + k4 * c4 * c4;
+        let g1m = dv - tz - e0 * tz;
+        let g2m = dw + ty + e0 * ty;
+        let (g1y, g1z) = (-k1 * tz, -(dtx + k2 * tz));
+        let (g2y, g2z) = (dtx + k1 * ty, k2 * ty);
+        let wm = 0.5 * self.shear_modulus * self.shear_factor * a_;
+        let wf = 0.5 * self.shear_modulus * self.torsion_factor * i_;
+        let w = 0.5 * self.youngs_modulus * exx2
+            + wm * (g1m * g1m + g2m * g2m)
+            + wf * (g1y * g1y + g1z * g1z + g2y * g2y + g2z * g2z);
+        // Adjoints of c0..c5.
+        let he = 0.5 * self.youngs_modulus;
+        let s0 = he * (2.0 * a_ * c0 + 2.0 * i_ * (c3 + c5));
+        let s1 = he * 2.0 * i_ * c1;
+        let s2 = he * 2.0 * i_ * c2;
+        let s3 = he * (2.0 * i_ * c0 + 6.0 * k4 * c3 + 2.0 * k4 * c5);
+        let s4 = he * 2.0 * k4 * c4;
+        let s5 = he * (2.0 * i_ * c0 + 6.0 * k4 * c5 + 2.0 * k4 * c3);
+        let mut gr = [0.0; 8];
+        let (mut e0b, mut k1b, mut k2b) = (0.0, 0.0, 0.0);
+        e0b += s0 * (1.0 + e0);
+        gr[1] += s0 * dv;
+        gr[2] += s0 * dw;
+        k1b += s1 * (1.0 + e0);
+        e0b += s1 * k1;
+        gr[2] += s1 * dtx;
+        gr[3] += s1 * dw;
+        k2b += s2 * (1.0 + e0);
+        e0b += s2 * k2;
+        gr[1] -= s2 * dtx;
+        gr[3] -= s2 * dv;
+        k1b += s3 * k1;
+        gr[3] += s3 * dtx;
+        k1b += s4 * k2;
+        k2b += s4 * k1;
+        k2b += s5 * k2;
+        gr[3] += s5 * dtx;
+        // Mean shear.
+        let (a1, a2) = (2.0 * wm * g1m, 2.0 * wm * g2m);
+        gr[1] += a1;
+        gr[7] -= a1 * (1.0 + e0);
+        e0b -= a1 * tz;
+        gr[2] += a2;
+        gr[6] += a2 * (1.0 + e0);
+        e0b += a2 * ty;
+        // Torsional (fluctuating) shear.
+        let (b1, b2, b3, b4) = (
+            2.0 * wf * g1y,
+            2.0 * wf * g1z,
+            2.0 * wf * g2y,
+            2.0 * wf * g2z,
+        );
+        k1b -= b1 * tz;
+        gr[7] -= b1 * k1;
+        gr[3] -= b2;
+        k2b -= b2 * tz;
+        gr[7] -= b2 * k2;
+        gr[3] += b3;
+        k1b += b3 * ty;
+        gr[6] += b3 * k1;
+        k2b += b4 * ty;
+        gr[6] += b4 * k2;
+        // Back through e0, k1, k2.
+        gr[0] += e0b;
+        gr[3] += k1b * ty + k2b * tz;
+        gr[6] += k1b * dtx;
+        gr[5] -= k1b;
+        gr[4] += k2b;
+        gr[7] += k2b * dtx;
+        (w, Strains::from(gr))
+    }
+
+    /// ∂²W/∂g² by central differences of the analytic gradient: a cheap tangent for Newton
+    /// (relative accuracy ~1e-8; [`Self::hessian`] is exact).
+    pub fn hessian_fd(&self, g: &Strains<f64>) -> SMatrix<f64, STRAIN_VARS, STRAIN_VARS> {
+        let mut h = SMatrix::<f64, STRAIN_VARS, STRAIN_VARS>::zeros();
+        for j in 0..STRAIN_VARS {
+            let step = 1e-6 * (1e-3 + g[j].abs());
+            let (mut p, mut m) = (*g, *g);
+            p[j] += step;
+            m[j] -= step;
+            let col = (self.gradient(&p).1 - self.gradient(&m).1) / (2.0 * step);
+            h.set_column(j, &col);
+        }
+        (h + h.transpose()) * 0.5
     }
 
     /// W, ∂W/∂g and ∂²W/∂g².
@@ -152,6 +258,16 @@ impl ElementStrains {
             f.gemv_tr(w, g, &dw, 1.0);
         }
         f
+    }
+
+    /// Tangent stiffness ∂²U/∂d² with the finite-difference Hessian (fast, for Newton).
+    pub fn tangent_fast(&self, law: &StrainEnergy, d: &ElementVector) -> ElementMatrix {
+        let mut k = ElementMatrix::zeros();
+        for (g, w) in self.operators.iter().zip(self.weights) {
+            let h = law.hessian_fd(&(g * d));
+            k += g.transpose() * (h * w) * g;
+        }
+        k
     }
 
     /// Internal force and tangent stiffness ∂²U/∂d².
@@ -350,6 +466,33 @@ mod tests {
         rigid[3] = 2.0 * PI * 90.0;
         rigid[9] = 2.0 * PI * 90.0;
         assert_eq!(es.internal_force(&law, &rigid).norm(), 0.0);
+    }
+
+    #[test]
+    fn hand_gradient_equals_automatic_differentiation() {
+        let law = StrainEnergy::of(&seed_string());
+        let mut rng = Rng(99);
+        for _ in 0..200 {
+            let g = Strains::from_fn(|_, _| rng.uniform(-0.3, 0.3));
+            let (w, dw) = law.gradient(&g);
+            let (w_ad, dw_ad) = law.gradient_ad(&g);
+            assert!((w - w_ad).abs() <= 1e-12 * w_ad.abs());
+            let err = (dw - dw_ad).abs().max();
+            assert!(err <= 1e-11 * dw_ad.abs().max(), "gradient error {err:e}");
+        }
+    }
+
+    #[test]
+    fn fast_tangent_agrees_with_the_exact_one() {
+        let (_, es, law) = element();
+        let mut rng = Rng(5);
+        for scale in [0.0, 1e-4, 1e-2] {
+            let d = random_element_state(&mut rng, scale);
+            let (_, exact) = es.internal_force_and_tangent(&law, &d);
+            let fast = es.tangent_fast(&law, &d);
+            let err = (fast - exact).abs().max() / exact.abs().max();
+            assert!(err < 1e-7, "scale {scale}: relative error {err:e}");
+        }
     }
 
     #[test]

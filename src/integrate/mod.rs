@@ -32,6 +32,7 @@ pub trait ImplicitSystem {
     );
     /// ca ∂r/∂q̈ + cv ∂r/∂q̇ + cq ∂r/∂q into `out` (may be approximate: Newton then converges
     /// linearly). `refresh` asks for the expensive parts to be recomputed.
+    #[allow(clippy::too_many_arguments)]
     fn jacobian(
         &mut self,
         t: f64,

@@ -118,22 +118,30 @@ impl ReducedModel {
     }
 
     /// Φᵀ K_t(Φq) Φ: the projected tangent of the internal force at the elastic state `q_full`
-    /// (Φq on the full mesh), added into `out` (n × n); `scratch` is 12 × n.
+    /// (Φq on the full mesh), added into `out` (n × n). `scratch` (full DOF × n) receives K_t Φ,
+    /// built element by element; one large product Φᵀ (K_t Φ) then projects it. `exact` selects
+    /// the automatic-differentiation tangent instead of the fast finite-difference one.
     pub fn add_strain_tangent(
         &self,
         q_full: &DVector<f64>,
         out: &mut DMatrix<f64>,
         scratch: &mut DMatrix<f64>,
+        exact: bool,
     ) {
+        scratch.fill(0.0);
         for e in 0..self.elements() {
             let d = crate::fem::ElementVector::from_fn(|i, _| q_full[6 * e + i]);
-            let (_, k) = self
-                .element_strains
-                .internal_force_and_tangent(&self.strain_law, &d);
+            let k = if exact {
+                self.element_strains
+                    .internal_force_and_tangent(&self.strain_law, &d)
+                    .1
+            } else {
+                self.element_strains.tangent_fast(&self.strain_law, &d)
+            };
             let phi_e = self.phi.rows(6 * e, 12);
-            scratch.gemm(1.0, &k, &phi_e, 0.0);
-            out.gemm_tr(1.0, &phi_e, &*scratch, 1.0);
+            scratch.rows_mut(6 * e, 12).gemm(1.0, &k, &phi_e, 1.0);
         }
+        out.gemm_tr(1.0, &self.phi, &*scratch, 1.0);
     }
 }
 
@@ -151,8 +159,8 @@ mod tests {
         let r = ReducedModel::new(&p.model, 30, 20).unwrap();
         // Tangent at rest = Φᵀ K Φ = Λ.
         let mut kt = DMatrix::zeros(20, 20);
-        let mut scratch = DMatrix::zeros(12, 20);
-        r.add_strain_tangent(&DVector::zeros(r.phi.nrows()), &mut kt, &mut scratch);
+        let mut scratch = DMatrix::zeros(r.phi.nrows(), 20);
+        r.add_strain_tangent(&DVector::zeros(r.phi.nrows()), &mut kt, &mut scratch, true);
         for i in 0..20 {
             for j in 0..20 {
                 let expected = if i == j { r.omega2[i] } else { 0.0 };

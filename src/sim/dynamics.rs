@@ -81,6 +81,9 @@ pub struct Dynamics<'m> {
     /// Contact state per node (index = node), from the last residual evaluation.
     pub contacts: Vec<NodeContact>,
     pub bit: BitLoad,
+    /// Residual evaluations and strain-tangent refreshes so far (cost accounting).
+    pub residual_evaluations: usize,
+    pub tangent_refreshes: usize,
 }
 
 impl<'m> Dynamics<'m> {
@@ -96,9 +99,11 @@ impl<'m> Dynamics<'m> {
             a_full: DVector::zeros(ndof),
             f_full: DVector::zeros(ndof),
             strain_tangent: DMatrix::from_diagonal(&model.omega2),
-            scratch: DMatrix::zeros(12, n),
+            scratch: DMatrix::zeros(ndof, n),
             contacts: vec![NodeContact::default(); model.nodes()],
             bit: BitLoad::default(),
+            residual_evaluations: 0,
+            tangent_refreshes: 0,
         }
     }
 
@@ -192,12 +197,11 @@ impl<'m> Dynamics<'m> {
         // Energies.
         let mut kinetic = 0.5 * v.norm_squared();
         let mut dissipation = 0.0;
-        for k in 0..2 {
-            kinetic += rigid[k] * m.rigid_mass[k].dot(v)
-                + 0.5 * rigid[k] * rigid[k] * m.rigid_self_mass[k];
+        for (k, &r) in rigid.iter().enumerate() {
+            kinetic += r * m.rigid_mass[k].dot(v) + 0.5 * r * r * m.rigid_self_mass[k];
             if self.effects.damping {
-                dissipation += 2.0 * rigid[k] * m.rigid_damping[k].dot(v)
-                    + rigid[k] * rigid[k] * m.rigid_self_damping[k];
+                dissipation +=
+                    2.0 * r * m.rigid_damping[k].dot(v) + r * r * m.rigid_self_damping[k];
             }
         }
         if self.effects.damping {
@@ -270,6 +274,7 @@ impl ImplicitSystem for Dynamics<'_> {
         a: &DVector<f64>,
         out: &mut DVector<f64>,
     ) {
+        self.residual_evaluations += 1;
         self.expand(q, v, a);
         self.full_forces();
         let m = self.model;
@@ -297,9 +302,15 @@ impl ImplicitSystem for Dynamics<'_> {
     ) {
         let m = self.model;
         if refresh {
+            self.tangent_refreshes += 1;
             self.expand(q, v, a);
             self.strain_tangent.fill(0.0);
-            m.add_strain_tangent(&self.q_full, &mut self.strain_tangent, &mut self.scratch);
+            m.add_strain_tangent(
+                &self.q_full,
+                &mut self.strain_tangent,
+                &mut self.scratch,
+                false,
+            );
         }
         out.copy_from(&self.strain_tangent);
         *out *= c.cq;

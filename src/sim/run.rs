@@ -65,6 +65,9 @@ pub struct SolverStats {
     pub min_dt: f64,
     pub max_dt: f64,
     pub static_iterations: usize,
+    /// Residual evaluations and strain-tangent refreshes during the time march.
+    pub residual_evaluations: usize,
+    pub tangent_refreshes: usize,
     pub wall_time_s: f64,
 }
 
@@ -351,6 +354,8 @@ pub fn simulate(
         }
     }
     stats.wall_time_s = clock.elapsed().as_secs_f64();
+    stats.residual_evaluations = sys.residual_evaluations;
+    stats.tangent_refreshes = sys.tangent_refreshes;
     if stats.steps == 0 {
         stats.min_dt = 0.0;
     }

@@ -1,0 +1,232 @@
+//! Metrics of one simulation (`MODEL.md` §8): turn the recorded [`TimeSeries`] into the numbers
+//! that objectives and reports read — rate of penetration, stick-slip, bit-bounce, wall impacts,
+//! weight and torque on bit, mechanical specific energy, drilling efficiency and an energy-balance
+//! self-check.
+//!
+//! # Analysis window
+//! With t₀ = t\[0\] + `settling_time`, the window is the samples with t ≥ t₀. Its start t_s is the
+//! **first recorded sample at or after t₀** (not a value interpolated at t₀), so that every metric
+//! — cumulative counters, cumulative work, extremes, integrals — refers to the same recorded
+//! states; the window length is T_w = t_end − t_s (≤ t_end − t₀). With `settling_time` = 0 the
+//! window is the whole run. The energy-balance residual alone is taken over the whole run.
+//!
+//! # Time weighting
+//! The sample times are not uniformly spaced (the step is adaptive). Every time integral uses the
+//! trapezoid rule on the samples: interval [tᵢ, tᵢ₊₁] contributes (tᵢ₊₁ − tᵢ)(yᵢ + yᵢ₊₁)/2.
+//! Time means are integrals divided by T_w. Shares of time (stick, off bottom) are the same rule
+//! applied to the 0/1 indicator of the condition, so an interval whose ends disagree counts for
+//! half its length. Extremes (max/min) are over the window's sample values.
+//!
+//! # Sign conventions
+//! Those of [`TimeSeries`]: the bit advances with u̇ > 0 and spins with θ̇ > 0; WOB ≥ 0 and TOB are
+//! positive when the rock resists; `work_top` is the work done by the top drive on the string,
+//! `work_bit` the work done by the rock on the string (≤ 0 while drilling).
+
+mod check;
+mod error;
+mod time_average;
+
+#[cfg(test)]
+mod tests;
+
+pub use error::MetricsError;
+
+use crate::sim::TimeSeries;
+use serde::Serialize;
+use std::f64::consts::PI;
+use time_average as ta;
+
+/// Energy floor in the denominator of the energy-balance residual, J: far below any drilling
+/// energy, it only keeps a run with no net input work from dividing by zero.
+pub const ENERGY_FLOOR_J: f64 = 1e-12;
+
+/// What the metrics need besides the time series: the operating point and the analysis window.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MetricsConfig {
+    /// Imposed rotation speed Ω at the top, rad/s; > 0.
+    pub omega: f64,
+    /// Imposed axial velocity V0 at the top, m/s; > 0.
+    pub v0: f64,
+    /// Borehole radius R_bh, m; > 0. The bit area is A_b = π R_bh².
+    pub borehole_radius: f64,
+    /// Settling time, s; ≥ 0. Metrics use only samples with t ≥ t\[0\] + settling_time.
+    pub settling_time: f64,
+    /// Fraction of Ω below which the bit counts as stuck (θ̇_bit < stick_threshold · Ω); in
+    /// [0, 1). Default [`MetricsConfig::DEFAULT_STICK_THRESHOLD`] = 0.1.
+    pub stick_threshold: f64,
+}
+
+impl MetricsConfig {
+    /// Default stick threshold: the bit is stuck while it turns slower than 10 % of Ω.
+    pub const DEFAULT_STICK_THRESHOLD: f64 = 0.1;
+
+    /// A configuration with the default stick threshold (0.1).
+    pub fn new(omega: f64, v0: f64, borehole_radius: f64, settling_time: f64) -> Self {
+        Self {
+            omega,
+            v0,
+            borehole_radius,
+            settling_time,
+            stick_threshold: Self::DEFAULT_STICK_THRESHOLD,
+        }
+    }
+
+    /// Check the ranges documented on each field.
+    pub fn validate(&self) -> Result<(), MetricsError> {
+        let positive = |field, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(MetricsError::InvalidConfig {
+                    field,
+                    value,
+                    expected: "expected a finite value > 0",
+                })
+            }
+        };
+        positive("omega", self.omega)?;
+        positive("v0", self.v0)?;
+        positive("borehole_radius", self.borehole_radius)?;
+        if !(self.settling_time.is_finite() && self.settling_time >= 0.0) {
+            return Err(MetricsError::InvalidConfig {
+                field: "settling_time",
+                value: self.settling_time,
+                expected: "expected a finite value >= 0",
+            });
+        }
+        if !(self.stick_threshold >= 0.0 && self.stick_threshold < 1.0) {
+            return Err(MetricsError::InvalidConfig {
+                field: "stick_threshold",
+                value: self.stick_threshold,
+                expected: "expected a fraction of omega in [0, 1)",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The metrics of one run (`MODEL.md` §8). Unless stated otherwise, each is taken over the
+/// analysis window [t_s, t_end] of the module documentation (length T_w), time-weighted by the
+/// trapezoid rule.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Metrics {
+    /// Mean rate of penetration (u_bit(t_end) − u_bit(t_s)) / T_w, m/s.
+    pub mean_rop_m_s: f64,
+    /// The same mean rate of penetration in m/h (× 3600).
+    pub mean_rop_m_per_h: f64,
+    /// Stick-slip severity (max θ̇_bit − min θ̇_bit) / (2Ω), dimensionless; 0 for steady rotation.
+    pub stick_slip_severity: f64,
+    /// Share of time in [0, 1] with θ̇_bit < stick_threshold · Ω (bit stuck), dimensionless.
+    pub stick_fraction: f64,
+    /// Peak bit speed ratio max θ̇_bit / Ω, dimensionless.
+    pub max_bit_speed_ratio: f64,
+    /// Share of time in [0, 1] with the bit off bottom (weight on bit = 0; tested as ≤ 0 so that a
+    /// rounding-level negative value also counts), dimensionless.
+    pub bit_bounce_fraction: f64,
+    /// Time-weighted standard deviation of the bit axial velocity u̇_bit divided by V0,
+    /// dimensionless.
+    pub axial_velocity_fluctuation: f64,
+    /// Contact onsets over all nodes per second: (onsets(t_end) − onsets(t_s)) / T_w, 1/s.
+    pub impacts_per_s: f64,
+    /// Largest wall normal force at any node and sample, N.
+    pub peak_wall_force_n: f64,
+    /// Contact impulse ∫ (Σ_nodes |F_FS|) dt, N·s.
+    pub contact_impulse_ns: f64,
+    /// Largest radial displacement over radial gap at any node and sample (> 1: indentation),
+    /// dimensionless.
+    pub max_radial_over_gap: f64,
+    /// Time-weighted mean weight on bit, N.
+    pub mean_wob_n: f64,
+    /// Time-weighted mean torque on bit, N·m.
+    pub mean_tob_nm: f64,
+    /// Mechanical specific energy (Teale) WOB/A_b + 2π N TOB / (A_b ROP), Pa (= J/m³), with the
+    /// mean WOB and TOB, N = Ω/(2π) in rev/s, A_b = π R_bh² and ROP the mean ROP in m/s.
+    /// +∞ when the mean ROP is ≤ 0 (the bit did not advance); serde_json writes it as `null`.
+    pub mse_pa: f64,
+    /// Drilling efficiency ∫ P_bit dt / ∫ P_top dt = −Δwork_bit / Δwork_top over the window:
+    /// energy delivered to the rock over energy injected at the top, dimensionless. 0 when the
+    /// top drive did no positive work over the window; negative if the rock returned energy.
+    pub efficiency: f64,
+    /// Energy-balance self-check over the whole run (from sample 0, not the window):
+    /// |W_in − (ΔE_kinetic + ΔE_potential + Δdissipated)| / max(|W_in|, [`ENERGY_FLOOR_J`]) with
+    /// W_in = Δwork_top + Δwork_bit, dimensionless (0 for a perfectly consistent run).
+    pub energy_balance_residual: f64,
+}
+
+/// Compute the metrics of `series` (see [`Metrics`] for the definitions). Refuses an invalid
+/// configuration, an empty or inconsistent series (unequal channel lengths, non-finite samples,
+/// times not strictly increasing) and an analysis window with fewer than two samples.
+pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, MetricsError> {
+    config.validate()?;
+    check::check_series(series)?;
+    let n = series.len();
+    let t_start = series.t[0];
+    let t_end = series.t[n - 1];
+    let t0 = t_start + config.settling_time;
+    let i0 = series.t.partition_point(|&t| t < t0);
+    if n - i0 < 2 {
+        return Err(MetricsError::WindowTooShort {
+            settling_time: config.settling_time,
+            run_length: t_end - t_start,
+            samples: n - i0,
+        });
+    }
+    let last = n - 1;
+    let t = &series.t[i0..];
+    let window = ta::duration(t);
+    let omega = config.omega;
+
+    let mean_rop = (series.bit_displacement[last] - series.bit_displacement[i0]) / window;
+
+    let theta_dot = &series.bit_angular_velocity[i0..];
+    let (max_spin, min_spin) = (ta::max(theta_dot), ta::min(theta_dot));
+    let stick_speed = config.stick_threshold * omega;
+
+    let mean_wob = ta::mean(t, &series.weight_on_bit[i0..]);
+    let mean_tob = ta::mean(t, &series.torque_on_bit[i0..]);
+    let bit_area = PI * config.borehole_radius * config.borehole_radius;
+    let mse = if mean_rop > 0.0 {
+        let revs_per_s = omega / (2.0 * PI);
+        mean_wob / bit_area + 2.0 * PI * revs_per_s * mean_tob / (bit_area * mean_rop)
+    } else {
+        f64::INFINITY
+    };
+
+    let top_work = series.work_top[last] - series.work_top[i0];
+    let rock_work = -(series.work_bit[last] - series.work_bit[i0]);
+    let efficiency = if top_work > 0.0 {
+        rock_work / top_work
+    } else {
+        0.0
+    };
+
+    let onsets = series.contact_onsets[last] as f64 - series.contact_onsets[i0] as f64;
+
+    Ok(Metrics {
+        mean_rop_m_s: mean_rop,
+        mean_rop_m_per_h: mean_rop * 3600.0,
+        stick_slip_severity: (max_spin - min_spin) / (2.0 * omega),
+        stick_fraction: ta::share(t, theta_dot, |v| v < stick_speed),
+        max_bit_speed_ratio: max_spin / omega,
+        bit_bounce_fraction: ta::share(t, &series.weight_on_bit[i0..], |v| v <= 0.0),
+        axial_velocity_fluctuation: ta::std_dev(t, &series.bit_velocity[i0..]) / config.v0,
+        impacts_per_s: onsets / window,
+        peak_wall_force_n: ta::max(&series.wall_force_max[i0..]),
+        contact_impulse_ns: ta::integral(t, &series.wall_force_total[i0..]),
+        max_radial_over_gap: ta::max(&series.max_radial_over_gap[i0..]),
+        mean_wob_n: mean_wob,
+        mean_tob_nm: mean_tob,
+        mse_pa: mse,
+        efficiency,
+        energy_balance_residual: energy_balance_residual(series),
+    })
+}
+
+/// |W_in − (ΔE_k + ΔE_p + ΔD)| / max(|W_in|, floor) from the first to the last sample.
+fn energy_balance_residual(s: &TimeSeries) -> f64 {
+    let delta = |ch: &[f64]| ch[ch.len() - 1] - ch[0];
+    let work_in = delta(&s.work_top) + delta(&s.work_bit);
+    let stored_and_lost =
+        delta(&s.kinetic_energy) + delta(&s.potential_energy) + delta(&s.dissipated);
+    (work_in - stored_and_lost).abs() / work_in.abs().max(ENERGY_FLOOR_J)
+}

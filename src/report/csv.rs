@@ -1,0 +1,306 @@
+//! The time history of one run as CSV: one header row, then one row per recorded sample.
+//!
+//! Every scalar channel of [`TimeSeries`] is a column whose name ends with its SI unit
+//! (`t_s`, `bit_velocity_m_s`, `torque_on_bit_N_m`; counts and ratios have none), followed by one
+//! column per radial probe, `radial_x{position}m_m` (e.g. `radial_x20m_m` for x = 20 m).
+//! Reals are written with Rust's shortest representation that parses back to the same f64 bit for
+//! bit (`NaN`, `inf` included): plain `{}` for ordinary magnitudes, `{:e}` below 10⁻⁵ or from 10¹⁶
+//! on, where plain notation would spell out hundreds of zeros. The rows are the samples of `t`; a channel shorter
+//! than `t` (which the simulator never records) gets empty fields rather than a panic.
+
+use std::fmt::Write as _;
+use std::io;
+use std::path::Path;
+
+use crate::sim::TimeSeries;
+
+use super::atomic::write_atomic;
+
+enum Values<'a> {
+    Real(&'a [f64]),
+    Count32(&'a [u32]),
+    Count64(&'a [u64]),
+}
+
+impl Values<'_> {
+    /// Appends sample `i`, or nothing if the channel is too short.
+    fn write(&self, out: &mut String, i: usize) {
+        // Writing to a String cannot fail.
+        let _ = match self {
+            Values::Real(v) => v.get(i).map(|&x| write_real(out, x)),
+            Values::Count32(v) => v.get(i).map(|x| write!(out, "{x}")),
+            Values::Count64(v) => v.get(i).map(|x| write!(out, "{x}")),
+        };
+    }
+}
+
+/// Appends `x` in a form that round-trips: `{}` for 0, non-finite values and magnitudes in
+/// [1e-5, 1e16), otherwise `{:e}` (Display never uses an exponent: 1e-300 would be 302 chars).
+fn write_real(out: &mut String, x: f64) -> std::fmt::Result {
+    if x == 0.0 || !x.is_finite() || (1e-5..1e16).contains(&x.abs()) {
+        write!(out, "{x}")
+    } else {
+        write!(out, "{x:e}")
+    }
+}
+
+/// The columns in file order: header name and values.
+fn columns(s: &TimeSeries) -> Vec<(String, Values<'_>)> {
+    use Values::{Count32, Count64, Real};
+    let scalar = [
+        ("t_s", Real(&s.t)),
+        ("bit_displacement_m", Real(&s.bit_displacement)),
+        ("bit_velocity_m_s", Real(&s.bit_velocity)),
+        ("bit_rotation_rad", Real(&s.bit_rotation)),
+        ("bit_angular_velocity_rad_s", Real(&s.bit_angular_velocity)),
+        ("weight_on_bit_N", Real(&s.weight_on_bit)),
+        ("torque_on_bit_N_m", Real(&s.torque_on_bit)),
+        ("top_force_N", Real(&s.top_force)),
+        ("top_torque_N_m", Real(&s.top_torque)),
+        ("nodes_in_contact", Count32(&s.nodes_in_contact)),
+        ("contact_onsets", Count64(&s.contact_onsets)),
+        ("wall_force_total_N", Real(&s.wall_force_total)),
+        ("wall_force_max_N", Real(&s.wall_force_max)),
+        ("max_radial_over_gap", Real(&s.max_radial_over_gap)),
+        ("kinetic_energy_J", Real(&s.kinetic_energy)),
+        ("potential_energy_J", Real(&s.potential_energy)),
+        ("work_top_J", Real(&s.work_top)),
+        ("work_bit_J", Real(&s.work_bit)),
+        ("dissipated_J", Real(&s.dissipated)),
+    ];
+    let mut cols: Vec<(String, Values<'_>)> = scalar
+        .into_iter()
+        .map(|(name, v)| (name.to_owned(), v))
+        .collect();
+    for (k, x) in s.probe_positions.iter().enumerate() {
+        let r = s.probe_radial.get(k).map_or(&[][..], Vec::as_slice);
+        cols.push((probe_column_name(*x), Real(r)));
+    }
+    cols
+}
+
+/// `radial_x{position}m_m`: radial displacement (m) at the probe at x = `position` m.
+pub fn probe_column_name(position: f64) -> String {
+    format!("radial_x{position}m_m")
+}
+
+/// The whole series as CSV text (header row, then one row per sample, `\n` line ends).
+pub fn timeseries_csv(series: &TimeSeries) -> String {
+    let cols = columns(series);
+    let rows = series.len();
+    // ~20 characters per value is typical of full-precision f64.
+    let mut out = String::with_capacity((rows + 1) * cols.len() * 20);
+    for (j, (name, _)) in cols.iter().enumerate() {
+        if j > 0 {
+            out.push(',');
+        }
+        out.push_str(name);
+    }
+    out.push('\n');
+    for i in 0..rows {
+        for (j, (_, values)) in cols.iter().enumerate() {
+            if j > 0 {
+                out.push(',');
+            }
+            values.write(&mut out, i);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// Writes [`timeseries_csv`] to `path` atomically.
+pub fn write_timeseries_csv(path: &Path, series: &TimeSeries) -> io::Result<()> {
+    write_atomic(path, timeseries_csv(series).as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Three samples with awkward values: non-terminating binary fractions, extremes, −0, NaN.
+    fn small_series() -> TimeSeries {
+        let v = |a: f64, b: f64, c: f64| vec![a, b, c];
+        TimeSeries {
+            t: v(0.0, 1e-7, 0.1 + 0.2),
+            bit_displacement: v(0.0, 1.0 / 3.0, -2.2250738585072014e-308),
+            bit_velocity: v(f64::MIN_POSITIVE / 4.0, f64::MAX, -0.0),
+            bit_rotation: v(std::f64::consts::PI, 1e300, -1e-300),
+            bit_angular_velocity: v(f64::NAN, f64::INFINITY, f64::NEG_INFINITY),
+            weight_on_bit: v(0.0, 12345.678901234567, 9.87e-5),
+            torque_on_bit: v(1.0, 2.0, 3.0),
+            top_force: v(-1.5, 2.5, -3.5),
+            top_torque: v(0.7, 0.8, 0.9),
+            probe_positions: vec![20.0, 12.5],
+            probe_radial: vec![v(1e-3, 2e-3, 3.3e-3), v(0.1, 0.2, 0.3)],
+            nodes_in_contact: vec![0, 3, u32::MAX],
+            contact_onsets: vec![0, 7, u64::MAX],
+            wall_force_total: v(4.0, 5.0, 6.0),
+            wall_force_max: v(7.0, 8.0, 9.0),
+            max_radial_over_gap: v(0.5, 1.0000000000000002, 0.25),
+            kinetic_energy: v(1.1, 2.2, 3.3),
+            potential_energy: v(4.4, 5.5, 6.6),
+            work_top: v(7.7, 8.8, 9.9),
+            work_bit: v(-1.0, -2.0, -3.0),
+            dissipated: v(0.01, 0.02, 0.03),
+        }
+    }
+
+    fn header(csv: &str) -> Vec<&str> {
+        csv.lines().next().unwrap().split(',').collect()
+    }
+
+    #[test]
+    fn header_names_every_column_with_units() {
+        let csv = timeseries_csv(&small_series());
+        assert_eq!(
+            header(&csv),
+            [
+                "t_s",
+                "bit_displacement_m",
+                "bit_velocity_m_s",
+                "bit_rotation_rad",
+                "bit_angular_velocity_rad_s",
+                "weight_on_bit_N",
+                "torque_on_bit_N_m",
+                "top_force_N",
+                "top_torque_N_m",
+                "nodes_in_contact",
+                "contact_onsets",
+                "wall_force_total_N",
+                "wall_force_max_N",
+                "max_radial_over_gap",
+                "kinetic_energy_J",
+                "potential_energy_J",
+                "work_top_J",
+                "work_bit_J",
+                "dissipated_J",
+                "radial_x20m_m",
+                "radial_x12.5m_m",
+            ]
+        );
+    }
+
+    /// Guards against a channel added to `TimeSeries` but forgotten here: every serialized field
+    /// except the probe data must be a column, named as the field plus an optional unit suffix.
+    #[test]
+    fn every_scalar_channel_of_timeseries_is_a_column() {
+        let s = small_series();
+        let csv = timeseries_csv(&s);
+        let cols = header(&csv);
+        let json = serde_json::to_value(&s).unwrap();
+        let fields = json.as_object().unwrap();
+        let scalar: Vec<&String> = fields.keys().filter(|k| !k.starts_with("probe_")).collect();
+        assert_eq!(scalar.len() + s.probe_positions.len(), cols.len());
+        for key in scalar {
+            let found = cols.iter().any(|c| {
+                *c == key
+                    || c.strip_prefix(key.as_str())
+                        .is_some_and(|u| u.starts_with('_'))
+            });
+            assert!(found, "field {key} has no column in {cols:?}");
+        }
+    }
+
+    #[test]
+    fn rows_parse_back_bit_for_bit() {
+        let s = small_series();
+        let csv = timeseries_csv(&s);
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(lines.len(), 1 + s.len());
+        let cols = header(&csv);
+        let col = |name: &str| cols.iter().position(|c| *c == name).unwrap();
+        for (i, line) in lines[1..].iter().enumerate() {
+            let fields: Vec<&str> = line.split(',').collect();
+            assert_eq!(fields.len(), cols.len());
+            let real = |name: &str| fields[col(name)].parse::<f64>().unwrap().to_bits();
+            assert_eq!(real("t_s"), s.t[i].to_bits());
+            assert_eq!(real("bit_displacement_m"), s.bit_displacement[i].to_bits());
+            assert_eq!(real("bit_velocity_m_s"), s.bit_velocity[i].to_bits());
+            assert_eq!(real("bit_rotation_rad"), s.bit_rotation[i].to_bits());
+            let w = fields[col("bit_angular_velocity_rad_s")]
+                .parse::<f64>()
+                .unwrap();
+            let w0 = s.bit_angular_velocity[i];
+            assert!(
+                w.to_bits() == w0.to_bits() || (w.is_nan() && w0.is_nan()),
+                "{w} vs {w0}"
+            );
+            assert_eq!(real("weight_on_bit_N"), s.weight_on_bit[i].to_bits());
+            assert_eq!(
+                real("max_radial_over_gap"),
+                s.max_radial_over_gap[i].to_bits()
+            );
+            assert_eq!(real("work_bit_J"), s.work_bit[i].to_bits());
+            assert_eq!(real("radial_x20m_m"), s.probe_radial[0][i].to_bits());
+            assert_eq!(real("radial_x12.5m_m"), s.probe_radial[1][i].to_bits());
+            let n: u32 = fields[col("nodes_in_contact")].parse().unwrap();
+            assert_eq!(n, s.nodes_in_contact[i]);
+            let m: u64 = fields[col("contact_onsets")].parse().unwrap();
+            assert_eq!(m, s.contact_onsets[i]);
+        }
+    }
+
+    #[test]
+    fn extreme_magnitudes_use_exponents_and_ordinary_ones_do_not() {
+        let mut out = String::new();
+        for x in [
+            1e-300,
+            -2.5e-7,
+            f64::MAX,
+            1e16,
+            1e-5,
+            0.1,
+            12345.678901234567,
+            -0.0,
+        ] {
+            out.clear();
+            write_real(&mut out, x).unwrap();
+            assert!(out.len() <= 24, "{x}: {out}");
+            assert_eq!(out.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{out}");
+        }
+        let text = |x: f64| {
+            let mut s = String::new();
+            write_real(&mut s, x).unwrap();
+            s
+        };
+        assert_eq!(text(1e-300), "1e-300");
+        assert_eq!(text(-2.5e-7), "-2.5e-7");
+        assert_eq!(text(1e16), "1e16");
+        assert_eq!(text(1e-5), "0.00001");
+        assert_eq!(text(12345.678901234567), "12345.678901234567");
+        assert_eq!(text(-0.0), "-0");
+    }
+
+    #[test]
+    fn short_channel_gives_empty_fields_not_a_panic() {
+        let mut s = small_series();
+        s.top_force.truncate(1);
+        s.probe_radial.pop();
+        let csv = timeseries_csv(&s);
+        let cols = header(&csv);
+        let last_row: Vec<&str> = csv.lines().last().unwrap().split(',').collect();
+        assert_eq!(last_row.len(), cols.len());
+        let at = |name: &str| last_row[cols.iter().position(|c| *c == name).unwrap()];
+        assert_eq!(at("top_force_N"), "");
+        assert_eq!(at("radial_x12.5m_m"), "");
+        assert_eq!(at("radial_x20m_m"), "0.0033");
+    }
+
+    #[test]
+    fn empty_series_is_header_only() {
+        let csv = timeseries_csv(&TimeSeries::default());
+        assert_eq!(csv.lines().count(), 1);
+        assert!(csv.starts_with("t_s,bit_displacement_m,"));
+        assert!(csv.ends_with("dissipated_J\n"));
+    }
+
+    #[test]
+    fn write_produces_the_same_text_on_disk() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("run/series.csv");
+        let s = small_series();
+        write_timeseries_csv(&path, &s).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), timeseries_csv(&s));
+    }
+}
