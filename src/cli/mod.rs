@@ -2,6 +2,7 @@
 //! binary's edge, where errors become `anyhow` reports and exit codes.
 
 mod modes;
+mod simulate;
 
 use clap::{Parser, Subcommand};
 
@@ -17,11 +18,14 @@ pub struct Cli {
 pub enum Command {
     /// The lowest natural modes of the linear drillstring (constrained FE model).
     Modes(modes::ModesArgs),
+    /// One operating point through the nonlinear reduced-order simulator.
+    Simulate(simulate::SimulateArgs),
 }
 
 /// Run a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Modes(args) => modes::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
     }
 }

@@ -146,7 +146,7 @@ pub fn plot_probe_radial(
         .map(|r| r * 1e3)
         .collect();
     let gap_mm = gap * 1e3;
-    let wall_label = format!("wall, r = gap = {gap_mm} mm");
+    let wall_label = format!("wall, r = gap = {gap_mm:.4} mm");
     let title = format!("Radial displacement at x = {x} m");
     let caption = format!("Probe {probe_index}: r = \u{221a}(v\u{b2} + w\u{b2})");
     plot_panels(
@@ -586,7 +586,7 @@ mod tests {
         let svg = read(&path);
         assert!(svg.contains(&format!("Radial displacement at x = {PROBE_X} m")));
         assert!(svg.contains("r [mm]"));
-        assert!(svg.contains(&format!("wall, r = gap = {} mm", GAP * 1e3)));
+        assert!(svg.contains(&format!("wall, r = gap = {:.4} mm", GAP * 1e3)));
         // The dashed wall is many short segments in red, besides the legend sample.
         let red_paths = svg.matches("stroke=\"#FF0000\"").count();
         assert!(red_paths > 20, "{red_paths} red strokes");

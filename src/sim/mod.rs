@@ -11,7 +11,7 @@ pub use bit_rock::{BitLoad, bit_rock, xi};
 pub use contact::{NodeContact, wall_contact};
 pub use dynamics::{Dynamics, Effects, Observation};
 pub use run::{
-    InitialState, RunOutput, RunSettings, SimulationError, SolverStats, simulate,
-    static_equilibrium,
+    IMPACT_SEPARATION, InitialState, RunOutput, RunSettings, SimulationError, SolverStats,
+    run_problem, simulate, static_equilibrium,
 };
 pub use series::TimeSeries;

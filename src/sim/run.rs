@@ -179,12 +179,19 @@ pub fn static_equilibrium(model: &ReducedModel) -> Result<(DVector<f64>, usize),
 /// Newton iterations allowed for the static equilibrium.
 const STATIC_ITERATIONS: usize = 300;
 
+/// A node counts as having left the wall once its indentation is below −this × gap; its next
+/// contact is then an impact. Without this hysteresis, nodes resting on the wall chatter across
+/// δ = 0 at sub-micrometre amplitude and every crossing would count as an impact.
+pub const IMPACT_SEPARATION: f64 = 0.01;
+
 /// Accumulates the time history.
 struct Recorder {
     series: TimeSeries,
-    active: Vec<bool>,
+    /// Per node: separated from the wall by more than IMPACT_SEPARATION × gap since its last contact.
+    separated: Vec<bool>,
     onsets: u64,
     last: Option<Observation>,
+    gap: f64,
 }
 
 impl Recorder {
@@ -197,11 +204,16 @@ impl Recorder {
         probes: &[f64],
     ) {
         let s = &mut self.series;
+        let first = self.last.is_none();
         for (node, c) in sys.contacts.iter().enumerate() {
-            if c.active && !self.active[node] && self.last.is_some() {
-                self.onsets += 1;
+            if c.active {
+                if self.separated[node] && !first {
+                    self.onsets += 1;
+                }
+                self.separated[node] = false;
+            } else if c.indentation < -IMPACT_SEPARATION * self.gap {
+                self.separated[node] = true;
             }
-            self.active[node] = c.active;
         }
         let (work_top, work_bit, dissipated) = match (&self.last, s.t.last()) {
             (Some(prev), Some(&t0)) => {
@@ -267,9 +279,10 @@ pub fn simulate(
     };
     let mut rec = Recorder {
         series,
-        active: vec![false; model.nodes()],
+        separated: vec![false; model.nodes()],
         onsets: 0,
         last: None,
+        gap: model.string.gap(),
     };
     let (q0, v0) = match initial {
         InitialState::Given { q, v } => (q, v),
@@ -365,4 +378,29 @@ pub fn simulate(
         error,
         final_state: (nm.q.clone(), nm.v.clone()),
     }
+}
+
+/// Build the reduced model of a problem and run it at `op` for `duration` seconds (all effects,
+/// from static equilibrium), with the problem's nominal step and probes.
+pub fn run_problem(
+    problem: &crate::problem::Problem,
+    op: OperatingPoint,
+    duration: f64,
+    progress: impl FnMut(f64),
+) -> Result<RunOutput, crate::rom::EigenError> {
+    let model = ReducedModel::new(
+        &problem.model,
+        problem.mesh.elements,
+        problem.mesh.reduced_modes,
+    )?;
+    let mut settings = RunSettings::new(duration, problem.simulation.time_step);
+    settings.probes = problem.simulation.probes.clone();
+    Ok(simulate(
+        &model,
+        op,
+        Effects::ALL,
+        &settings,
+        InitialState::StaticEquilibrium,
+        progress,
+    ))
 }

@@ -36,8 +36,8 @@ pub struct TimeSeries {
     pub probe_radial: Vec<Vec<f64>>,
     /// Number of nodes touching the wall (δ > 0).
     pub nodes_in_contact: Vec<u32>,
-    /// Cumulative count of contact onsets over all nodes since t = 0 (a node going from free to
-    /// touching counts one).
+    /// Cumulative count of impacts over all nodes since t = 0: a node touching the wall after
+    /// having separated from it by more than 1 % of the gap (see `sim::IMPACT_SEPARATION`).
     pub contact_onsets: Vec<u64>,
     /// Sum over nodes of the wall normal force magnitude |F_FS|, N.
     pub wall_force_total: Vec<f64>,

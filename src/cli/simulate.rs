@@ -1,0 +1,197 @@
+//! `drillopt simulate PROBLEM [--omega V] [--v0 V] [--duration S] [--out DIR] [--quiet]`: one
+//! operating point through the nonlinear reduced-order simulator, with its time history, metrics
+//! and the paper's Figures 3–5.
+
+use crate::metrics::{self, MetricsConfig};
+use crate::model::OperatingPoint;
+use crate::problem::{Dimension, Problem};
+use crate::report;
+use crate::sim::{self, SolverStats};
+use anyhow::Context;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// Problem file (TOML).
+    pub problem: PathBuf,
+    /// Rotation speed, e.g. `60rpm` or `6.28` (rad/s) [default: the problem's].
+    #[arg(long)]
+    pub omega: Option<String>,
+    /// Imposed axial velocity, e.g. `5m/h` or `0.00139` (m/s) [default: the problem's].
+    #[arg(long)]
+    pub v0: Option<String>,
+    /// Simulated duration, e.g. `90` or `2s` [default: the problem's].
+    #[arg(long)]
+    pub duration: Option<String>,
+    /// Output directory [default: results/<problem>/simulate].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+#[derive(Serialize)]
+struct OperatingPointJson {
+    omega_rad_s: f64,
+    v0_m_s: f64,
+    omega_rpm: f64,
+    v0_m_per_h: f64,
+}
+
+#[derive(Serialize)]
+struct Summary<'a> {
+    problem: &'a str,
+    problem_file: String,
+    version: &'a str,
+    operating_point: OperatingPointJson,
+    duration_s: f64,
+    /// "completed", or "failed" with `error` saying when and why (what was computed is kept).
+    status: &'a str,
+    error: Option<String>,
+    metrics: Option<metrics::Metrics>,
+    metrics_error: Option<String>,
+    solver: &'a SolverStats,
+}
+
+fn parse_override(
+    text: &Option<String>,
+    flag: &str,
+    dim: Dimension,
+    default: f64,
+) -> anyhow::Result<f64> {
+    match text {
+        None => Ok(default),
+        Some(t) => {
+            let v = dim.parse(t).with_context(|| format!("{flag}"))?;
+            anyhow::ensure!(v.is_finite() && v > 0.0, "{flag} must be > 0, got {t}");
+            Ok(v)
+        }
+    }
+}
+
+pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let problem = Problem::load(&args.problem)?;
+    let op = OperatingPoint {
+        omega: parse_override(
+            &args.omega,
+            "--omega",
+            Dimension::AngularVelocity,
+            problem.operating_point.omega,
+        )?,
+        v0: parse_override(
+            &args.v0,
+            "--v0",
+            Dimension::Velocity,
+            problem.operating_point.v0,
+        )?,
+    };
+    let duration = parse_override(
+        &args.duration,
+        "--duration",
+        Dimension::Time,
+        problem.simulation.duration,
+    )?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("results").join(&problem.name).join("simulate"));
+
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(1000)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} simulate [{bar:40}] {msg} ({elapsed}, eta {eta})")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    let output = sim::run_problem(&problem, op, duration, |t| {
+        bar.set_position((1000.0 * t / duration) as u64);
+        bar.set_message(format!("t = {t:.2} / {duration} s"));
+    })
+    .context("modal analysis")?;
+    bar.finish_and_clear();
+
+    let settling = problem.simulation.settling_time.min(0.5 * duration);
+    let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling);
+    let (metrics, metrics_error) = match metrics::compute(&output.series, &config) {
+        Ok(m) => (Some(m), None),
+        Err(e) => (None, Some(e.to_string())),
+    };
+    let summary = Summary {
+        problem: &problem.name,
+        problem_file: args.problem.display().to_string(),
+        version: crate::VERSION,
+        operating_point: OperatingPointJson {
+            omega_rad_s: op.omega,
+            v0_m_s: op.v0,
+            omega_rpm: op.omega * 60.0 / (2.0 * std::f64::consts::PI),
+            v0_m_per_h: op.v0 * 3600.0,
+        },
+        duration_s: duration,
+        status: if output.error.is_none() {
+            "completed"
+        } else {
+            "failed"
+        },
+        error: output.error.as_ref().map(|e| e.to_string()),
+        metrics,
+        metrics_error,
+        solver: &output.stats,
+    };
+    report::write_json_atomic(&out.join("summary.json"), &summary)?;
+    if !output.series.is_empty() {
+        let s = &output.series;
+        report::write_timeseries_csv(&out.join("timeseries.csv"), s)?;
+        report::plot_bit_axial(s, &out.join("bit_axial.svg"))?;
+        report::plot_bit_rotation(s, &out.join("bit_rotation.svg"))?;
+        for (k, x) in s.probe_positions.iter().enumerate() {
+            let name = format!("radial_x{}m.svg", x);
+            report::plot_probe_radial(s, k, problem.model.gap(), &out.join(name))?;
+        }
+    }
+    print_summary(&summary, &out);
+    match &output.error {
+        None => Ok(()),
+        Some(e) => anyhow::bail!(
+            "simulation stopped early: {e} (results up to then written to {})",
+            out.display()
+        ),
+    }
+}
+
+fn print_summary(s: &Summary, out: &Path) {
+    let st = s.solver;
+    println!(
+        "{}: Ω = {:.2} rpm, V0 = {:.3} m/h, {} s simulated in {:.1} s ({} steps, {} rejected, min dt {:.2e} s)",
+        s.problem,
+        s.operating_point.omega_rpm,
+        s.operating_point.v0_m_per_h,
+        s.duration_s,
+        st.wall_time_s,
+        st.steps,
+        st.rejected_steps,
+        st.min_dt
+    );
+    if let Some(m) = &s.metrics {
+        println!(
+            "  ROP {:.3} m/h | SSI {:.2} | stick {:.1}% | bounce {:.1}% | impacts {:.2}/s | WOB {:.1} kN | TOB {:.2} kN·m | energy residual {:.1e}",
+            m.mean_rop_m_per_h,
+            m.stick_slip_severity,
+            100.0 * m.stick_fraction,
+            100.0 * m.bit_bounce_fraction,
+            m.impacts_per_s,
+            m.mean_wob_n / 1e3,
+            m.mean_tob_nm / 1e3,
+            m.energy_balance_residual
+        );
+    } else if let Some(e) = &s.metrics_error {
+        println!("  metrics unavailable: {e}");
+    }
+    println!("  results in {}", out.display());
+}
