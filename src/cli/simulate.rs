@@ -66,7 +66,7 @@ fn parse_override(
     match text {
         None => Ok(default),
         Some(t) => {
-            let v = dim.parse(t).with_context(|| format!("{flag}"))?;
+            let v = dim.parse(t).with_context(|| flag.to_string())?;
             anyhow::ensure!(v.is_finite() && v > 0.0, "{flag} must be > 0, got {t}");
             Ok(v)
         }
