@@ -148,8 +148,10 @@ pub struct Metrics {
     /// top drive did no positive work over the window; negative if the rock returned energy.
     pub efficiency: f64,
     /// Energy-balance self-check over the whole run (from sample 0, not the window):
-    /// |W_in − (ΔE_kinetic + ΔE_potential + Δdissipated)| / max(|W_in|, [`ENERGY_FLOOR_J`]) with
-    /// W_in = Δwork_top + Δwork_bit, dimensionless (0 for a perfectly consistent run).
+    /// |W_in − (ΔE_kinetic + ΔE_potential + Δdissipated)| / max(|Δwork_top|, |Δwork_bit|,
+    /// [`ENERGY_FLOOR_J`]) with W_in = Δwork_top + Δwork_bit, dimensionless (0 for a perfectly
+    /// consistent run). The denominator is the gross energy flow (the work put in by the top
+    /// drive while drilling), not the net W_in, which is a small difference of two large flows.
     pub energy_balance_residual: f64,
 }
 
@@ -222,11 +224,12 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
     })
 }
 
-/// |W_in − (ΔE_k + ΔE_p + ΔD)| / max(|W_in|, floor) from the first to the last sample.
+/// |W_in − (ΔE_k + ΔE_p + ΔD)| / max(|ΔW_top|, |ΔW_bit|, floor) from the first to the last sample.
 fn energy_balance_residual(s: &TimeSeries) -> f64 {
     let delta = |ch: &[f64]| ch[ch.len() - 1] - ch[0];
     let work_in = delta(&s.work_top) + delta(&s.work_bit);
     let stored_and_lost =
         delta(&s.kinetic_energy) + delta(&s.potential_energy) + delta(&s.dissipated);
-    (work_in - stored_and_lost).abs() / work_in.abs().max(ENERGY_FLOOR_J)
+    let gross = delta(&s.work_top).abs().max(delta(&s.work_bit).abs());
+    (work_in - stored_and_lost).abs() / gross.max(ENERGY_FLOOR_J)
 }
