@@ -22,6 +22,8 @@ pub struct ReducedModel {
     pub basis: ModalBasis,
     /// Φ, 6(N+1) × n.
     pub phi: DMatrix<f64>,
+    /// Φᵀ, n × 6(N+1): the rows of Φ as contiguous columns (per-node access without copies).
+    pub phi_t: DMatrix<f64>,
     /// Λ = diag(ω²) = Φᵀ K Φ, 1/s².
     pub omega2: DVector<f64>,
     /// c Φᵀ M_pipe Φ, 1/s.
@@ -87,6 +89,7 @@ impl ReducedModel {
             global,
             bc,
             basis,
+            phi_t: phi.transpose(),
             phi,
             omega2,
             damping,
@@ -119,7 +122,8 @@ impl ReducedModel {
 
     /// Φᵀ K_t(Φq) Φ: the projected tangent of the internal force at the elastic state `q_full`
     /// (Φq on the full mesh), added into `out` (n × n). `scratch` (full DOF × n) receives K_t Φ,
-    /// built element by element; one large product Φᵀ (K_t Φ) then projects it. `exact` selects
+    /// built element by element; the product Φᵀ (K_t Φ) then projects it (dot products of
+    /// contiguous columns; nothing is allocated). `exact` selects
     /// the automatic-differentiation tangent instead of the fast finite-difference one.
     pub fn add_strain_tangent(
         &self,
@@ -138,10 +142,26 @@ impl ReducedModel {
             } else {
                 self.element_strains.tangent_fast(&self.strain_law, &d)
             };
-            let phi_e = self.phi.rows(6 * e, 12);
-            scratch.rows_mut(6 * e, 12).gemm(1.0, &k, &phi_e, 1.0);
+            // scratch[6e.., j] += K_e Φ_e[.., j]: explicit loops, because nalgebra's gemm goes
+            // through matrixmultiply, which allocates packing buffers on every call.
+            for j in 0..self.size() {
+                let phi_col = self.phi.column(j);
+                let mut col = scratch.column_mut(j);
+                for r in 0..12 {
+                    let mut acc = 0.0;
+                    for c in 0..12 {
+                        acc += k[(r, c)] * phi_col[6 * e + c];
+                    }
+                    col[6 * e + r] += acc;
+                }
+            }
         }
-        out.gemm_tr(1.0, &self.phi, &*scratch, 1.0);
+        for j in 0..self.size() {
+            let y = scratch.column(j);
+            for i in 0..self.size() {
+                out[(i, j)] += self.phi.column(i).dot(&y);
+            }
+        }
     }
 }
 

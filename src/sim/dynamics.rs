@@ -323,7 +323,7 @@ impl ImplicitSystem for Dynamics<'_> {
         let g = c.cv * self.op.omega;
         out.zip_apply(&m.gyroscopic, |x, y| *x += g * y);
         // Wall contact at the nodes touching, from the last residual evaluation: −∂F/∂(q, q̇).
-        let phi = &m.phi;
+        let phi_t = &m.phi_t;
         for (node, k) in self.contacts.iter().enumerate() {
             if !k.active {
                 continue;
@@ -333,12 +333,7 @@ impl ImplicitSystem for Dynamics<'_> {
                 for b in 0..2 {
                     let w = -(c.cq * k.stiffness[a_][b] + c.cv * k.damping[a_][b]);
                     if w != 0.0 {
-                        out.ger(
-                            w,
-                            &phi.row(rows[a_]).transpose(),
-                            &phi.row(rows[b]).transpose(),
-                            1.0,
-                        );
+                        out.ger(w, &phi_t.column(rows[a_]), &phi_t.column(rows[b]), 1.0);
                     }
                 }
             }
@@ -346,8 +341,8 @@ impl ImplicitSystem for Dynamics<'_> {
         // Bit: −∂(F, T)/∂(u̇, θ̇) at the bit node.
         let bit_node = m.elements();
         let (ru, rt) = (
-            phi.row(Dof::U.at(bit_node)).transpose(),
-            phi.row(Dof::ThetaX.at(bit_node)).transpose(),
+            phi_t.column(Dof::U.at(bit_node)),
+            phi_t.column(Dof::ThetaX.at(bit_node)),
         );
         let b = self.bit;
         if b.dforce_dvel != 0.0 {

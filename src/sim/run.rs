@@ -166,7 +166,9 @@ pub fn static_equilibrium(model: &ReducedModel) -> Result<(DVector<f64>, usize),
         if !update.is_finite() {
             break;
         }
-        if alpha == 1.0 && update < 1e-12 {
+        // Converged when the full Newton update is below a picometre (at round-off the line
+        // search may shorten a step that no longer changes anything).
+        if largest < 1e-12 {
             return Ok((q, it));
         }
     }
