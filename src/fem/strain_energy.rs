@@ -19,7 +19,7 @@
 //! whose quadratic part is exactly the stiffness operator (9).
 
 use super::{BeamElement, ElementMatrix, ElementVector};
-use crate::model::Drillstring;
+use crate::model::{Drillstring, Section};
 use nalgebra::{SMatrix, SVector};
 use num_dual::{DualNum, gradient, hessian};
 use std::f64::consts::PI;
@@ -51,15 +51,15 @@ pub struct StrainEnergy {
 impl StrainEnergy {
     pub fn of(string: &Drillstring) -> Self {
         let p = &string.pipe;
-        let (ro, ri) = (p.outer_radius, p.inner_radius);
+        let section = Section::of(string);
         StrainEnergy {
             youngs_modulus: p.youngs_modulus,
-            shear_modulus: p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio)),
+            shear_modulus: section.shear_modulus,
             shear_factor: p.shear_factor,
             torsion_factor: p.torsion_factor,
-            area: PI * (ro * ro - ri * ri),
-            second_moment: PI / 4.0 * (ro.powi(4) - ri.powi(4)),
-            fourth_moment: PI / 24.0 * (ro.powi(6) - ri.powi(6)),
+            area: section.area,
+            second_moment: section.second_moment,
+            fourth_moment: PI / 24.0 * (p.outer_radius.powi(6) - p.inner_radius.powi(6)),
         }
     }
 
