@@ -43,4 +43,11 @@ pub trait ImplicitSystem {
         refresh: bool,
         out: &mut DMatrix<f64>,
     );
+
+    /// Whether the last Jacobian is still good for the state of the last residual evaluation
+    /// (e.g. no contact opened or closed since it was built), so that Newton may reuse its
+    /// factorisation. The default, `false`, rebuilds it at every iteration.
+    fn jacobian_reusable(&self) -> bool {
+        false
+    }
 }

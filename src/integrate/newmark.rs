@@ -156,24 +156,26 @@ impl Newmark {
                 self.stale = true;
                 return StepOutcome::Failed { iterations: it };
             }
-            // The cheap Jacobian parts (contact, bit, damping) are rebuilt at every iteration: a
-            // stale contact tangent at k ~ 1e10 N/m slows Newton badly (measured: 7x more
-            // expensive tangent refreshes when the Jacobian was reused within a step). The
-            // expensive strain tangent is refreshed only when convergence is slow.
+            // The Jacobian is rebuilt at the first iteration and whenever the system says it is
+            // no longer good (a contact opened or closed: a stale contact tangent at k ~ 1e10 N/m
+            // slows Newton badly); otherwise its factorisation is reused. The expensive strain
+            // tangent is refreshed only when convergence is slow.
             let refresh = self.stale || it > s.refresh_after;
-            sys.jacobian(
-                t1,
-                &self.q1,
-                &self.v1,
-                &self.a1,
-                JacobianCoefficients { ca: 1.0, cv, cq },
-                refresh,
-                &mut self.jacobian,
-            );
-            self.stale = false;
-            if self.lu.factor(&self.jacobian).is_err() {
-                self.stale = true;
-                return StepOutcome::Failed { iterations: it };
+            if it == 1 || refresh || !sys.jacobian_reusable() {
+                sys.jacobian(
+                    t1,
+                    &self.q1,
+                    &self.v1,
+                    &self.a1,
+                    JacobianCoefficients { ca: 1.0, cv, cq },
+                    refresh,
+                    &mut self.jacobian,
+                );
+                self.stale = false;
+                if self.lu.factor(&self.jacobian).is_err() {
+                    self.stale = true;
+                    return StepOutcome::Failed { iterations: it };
+                }
             }
             self.lu.solve_in_place(&mut self.residual);
             self.a1 -= &self.residual;

@@ -81,6 +81,9 @@ pub struct Dynamics<'m> {
     /// Contact state per node (index = node), from the last residual evaluation.
     pub contacts: Vec<NodeContact>,
     pub bit: BitLoad,
+    /// Touching nodes and bit on/off when the Jacobian was last built, and at the last residual.
+    jacobian_signature: (u64, u64, bool),
+    residual_signature: (u64, u64, bool),
     /// Residual evaluations and strain-tangent refreshes so far (cost accounting).
     pub residual_evaluations: usize,
     pub tangent_refreshes: usize,
@@ -102,6 +105,8 @@ impl<'m> Dynamics<'m> {
             scratch: DMatrix::zeros(ndof, n),
             contacts: vec![NodeContact::default(); model.nodes()],
             bit: BitLoad::default(),
+            jacobian_signature: (u64::MAX, 0, false),
+            residual_signature: (0, 0, false),
             residual_evaluations: 0,
             tangent_refreshes: 0,
         }
@@ -168,6 +173,20 @@ impl<'m> Dynamics<'m> {
         };
         self.f_full[iu] -= self.bit.force;
         self.f_full[it] -= self.bit.torque;
+        self.residual_signature = self.signature();
+    }
+
+    /// (number of touching nodes, a hash of which ones, bit on bottom).
+    fn signature(&self) -> (u64, u64, bool) {
+        let mut count = 0;
+        let mut hash: u64 = 0xcbf29ce484222325;
+        for (node, c) in self.contacts.iter().enumerate() {
+            if c.active {
+                count += 1;
+                hash = (hash ^ node as u64).wrapping_mul(0x100000001b3);
+            }
+        }
+        (count, hash, self.bit.force != 0.0)
     }
 
     /// What the time history records at a state.
@@ -266,6 +285,10 @@ impl ImplicitSystem for Dynamics<'_> {
         self.model.size()
     }
 
+    fn jacobian_reusable(&self) -> bool {
+        self.jacobian_signature == self.residual_signature
+    }
+
     fn residual(
         &mut self,
         _t: f64,
@@ -301,6 +324,7 @@ impl ImplicitSystem for Dynamics<'_> {
         out: &mut DMatrix<f64>,
     ) {
         let m = self.model;
+        self.jacobian_signature = self.residual_signature;
         if refresh {
             self.tangent_refreshes += 1;
             self.expand(q, v, a);
