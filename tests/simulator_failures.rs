@@ -4,12 +4,24 @@
 mod common;
 
 use drillopt::rom::ReducedModel;
-use drillopt::sim::{Effects, InitialState, RunSettings, SimulationError, simulate};
+use drillopt::sim::{Effects, InitialState, RunOutput, RunSettings, SimulationError, simulate};
 
 fn model() -> (drillopt::problem::Problem, ReducedModel) {
     let p = common::seed();
     let m = ReducedModel::new(&p.model, 30, 24).unwrap();
     (p, m)
+}
+
+/// The seed operating point with all effects, from static equilibrium.
+fn run(p: &drillopt::problem::Problem, m: &ReducedModel, settings: &RunSettings) -> RunOutput {
+    simulate(
+        m,
+        p.operating_point,
+        Effects::ALL,
+        settings,
+        InitialState::StaticEquilibrium,
+        |_| {},
+    )
 }
 
 #[test]
@@ -19,14 +31,7 @@ fn divergence_stops_the_run_and_keeps_the_history() {
     // (r = gap) from the first step, so the run must stop at once, after the first step.
     let mut settings = RunSettings::new(1.0, p.simulation.time_step);
     settings.divergence_gaps = 0.5;
-    let out = simulate(
-        &m,
-        p.operating_point,
-        Effects::ALL,
-        &settings,
-        InitialState::StaticEquilibrium,
-        |_| {},
-    );
+    let out = run(&p, &m, &settings);
     match out.error {
         Some(SimulationError::Diverged {
             time,
@@ -61,14 +66,7 @@ fn a_step_below_the_minimum_stops_the_run_with_its_time() {
     // refine below it within the first second and must give up there, saying when.
     let mut settings = RunSettings::new(1.0, p.simulation.time_step);
     settings.min_step = 2e-4;
-    let out = simulate(
-        &m,
-        p.operating_point,
-        Effects::ALL,
-        &settings,
-        InitialState::StaticEquilibrium,
-        |_| {},
-    );
+    let out = run(&p, &m, &settings);
     match &out.error {
         Some(SimulationError::StepTooSmall { time, min_step, .. }) => {
             assert_eq!(*min_step, 2e-4);

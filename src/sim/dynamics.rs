@@ -269,7 +269,8 @@ impl<'m> Dynamics<'m> {
         obs
     }
 
-    /// Elastic radial displacement at position x (interpolated linearly between nodes), m.
+    /// Elastic radial displacement at position x (interpolated linearly between nodes), m, of the
+    /// state last passed to [`Self::observe`] (or to a residual evaluation).
     pub fn radial_at(&self, x: f64) -> f64 {
         let h = self.model.global.element.length;
         let s = (x / h).clamp(0.0, self.model.elements() as f64);
