@@ -4,15 +4,19 @@
 //! parameters) → [`fem`] (beam element, assembly, boundary conditions) → [`rom`] (modes) → …
 //! The physics is that of `MODEL.md` (Cunha Jr, Soize & Sampaio 2014, with its settled choices).
 
+pub mod cache;
 pub mod cli;
 pub mod fem;
 pub mod integrate;
 pub mod metrics;
 pub mod model;
+pub mod objective;
+pub mod optimize;
 pub mod problem;
 pub mod report;
 pub mod rom;
 pub mod sim;
+pub mod uncertain;
 
 /// Version of drillopt, recorded in every result file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -1,0 +1,1 @@
+//! Append-only evaluation cache on disk (issue 4). Being built.

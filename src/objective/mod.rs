@@ -1,0 +1,3 @@
+//! The robust objective (issue 4).
+
+pub mod statistic;

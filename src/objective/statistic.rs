@@ -1,0 +1,1 @@
+//! Statistics of a metric over Monte Carlo samples. Being built.

@@ -1,0 +1,1 @@
+//! Derivative-free optimisation inside linear constraints (issue 4). Being built.
