@@ -192,16 +192,16 @@ impl StrainEnergy {
         (w, Strains::from(gr))
     }
 
-    /// ∂²W/∂g² by central differences of the analytic gradient: a cheap tangent for Newton
-    /// (relative accuracy ~1e-8; [`Self::hessian`] is exact).
+    /// ∂²W/∂g² by forward differences of the analytic gradient, symmetrised: a cheap tangent for
+    /// Newton (9 gradient evaluations; relative accuracy ~1e-7, [`Self::hessian`] is exact).
     pub fn hessian_fd(&self, g: &Strains<f64>) -> SMatrix<f64, STRAIN_VARS, STRAIN_VARS> {
         let mut h = SMatrix::<f64, STRAIN_VARS, STRAIN_VARS>::zeros();
+        let base = self.gradient(g).1;
         for j in 0..STRAIN_VARS {
-            let step = 1e-6 * (1e-3 + g[j].abs());
-            let (mut p, mut m) = (*g, *g);
+            let step = 1e-7 * (1e-3 + g[j].abs());
+            let mut p = *g;
             p[j] += step;
-            m[j] -= step;
-            let col = (self.gradient(&p).1 - self.gradient(&m).1) / (2.0 * step);
+            let col = (self.gradient(&p).1 - base) / step;
             h.set_column(j, &col);
         }
         (h + h.transpose()) * 0.5

@@ -3,7 +3,9 @@
 mod eigen;
 mod modes;
 mod reduced;
+mod sparse;
 
 pub use eigen::{EigenError, generalized_symmetric_eigen};
 pub use modes::{Family, ModalBasis, Mode};
 pub use reduced::ReducedModel;
+pub use sparse::SparseBasis;

@@ -5,7 +5,7 @@
 //! acceleration, but the damping acts on absolute velocities (C = c M_pipe), so C Q̇_rigid projects
 //! to a constant load; and the kinetic energy has cross terms Q̇_rigidᵀ M Φ q̇.
 
-use super::{EigenError, ModalBasis};
+use super::{EigenError, ModalBasis, SparseBasis};
 use crate::fem::{
     BoundaryConditions, Dof, ElementInertia, ElementStrains, GlobalMatrices, StrainEnergy, assemble,
 };
@@ -24,6 +24,8 @@ pub struct ReducedModel {
     pub phi: DMatrix<f64>,
     /// Φᵀ, n × 6(N+1): the rows of Φ as contiguous columns (per-node access without copies).
     pub phi_t: DMatrix<f64>,
+    /// Φ by its non-zeros (each mode lives on its family's DOFs only).
+    pub sparse: SparseBasis,
     /// Λ = diag(ω²) = Φᵀ K Φ, 1/s².
     pub omega2: DVector<f64>,
     /// c Φᵀ M_pipe Φ, 1/s.
@@ -90,6 +92,7 @@ impl ReducedModel {
             bc,
             basis,
             phi_t: phi.transpose(),
+            sparse: SparseBasis::new(&phi),
             phi,
             omega2,
             damping,
@@ -122,9 +125,9 @@ impl ReducedModel {
 
     /// Φᵀ K_t(Φq) Φ: the projected tangent of the internal force at the elastic state `q_full`
     /// (Φq on the full mesh), added into `out` (n × n). `scratch` (full DOF × n) receives K_t Φ,
-    /// built element by element; the product Φᵀ (K_t Φ) then projects it (dot products of
-    /// contiguous columns; nothing is allocated). `exact` selects
-    /// the automatic-differentiation tangent instead of the fast finite-difference one.
+    /// built element by element from the non-zeros of Φ only; the symmetric product Φᵀ (K_t Φ)
+    /// then projects it (upper triangle, mirrored). Nothing is allocated. `exact` selects the
+    /// automatic-differentiation tangent instead of the fast finite-difference one.
     pub fn add_strain_tangent(
         &self,
         q_full: &DVector<f64>,
@@ -133,6 +136,7 @@ impl ReducedModel {
         exact: bool,
     ) {
         scratch.fill(0.0);
+        let rows = scratch.nrows();
         for e in 0..self.elements() {
             let d = crate::fem::ElementVector::from_fn(|i, _| q_full[6 * e + i]);
             let k = if exact {
@@ -142,24 +146,28 @@ impl ReducedModel {
             } else {
                 self.element_strains.tangent_fast(&self.strain_law, &d)
             };
-            // scratch[6e.., j] += K_e Φ_e[.., j]: explicit loops, because nalgebra's gemm goes
-            // through matrixmultiply, which allocates packing buffers on every call.
-            for j in 0..self.size() {
-                let phi_col = self.phi.column(j);
-                let mut col = scratch.column_mut(j);
-                for r in 0..12 {
-                    let mut acc = 0.0;
-                    for c in 0..12 {
-                        acc += k[(r, c)] * phi_col[6 * e + c];
+            // scratch[6e.., j] += K_e[.., c] Φ[6e + c, j] over the non-zeros of Φ's rows.
+            let data = scratch.as_mut_slice();
+            for c in 0..12 {
+                let (modes, values) = self.sparse.dof(6 * e + c);
+                let k_col = k.column(c);
+                for (&j, &p) in modes.iter().zip(values) {
+                    let col = &mut data[j * rows + 6 * e..j * rows + 6 * e + 12];
+                    for (y, kr) in col.iter_mut().zip(k_col.iter()) {
+                        *y += kr * p;
                     }
-                    col[6 * e + r] += acc;
                 }
             }
         }
+        let data = scratch.as_slice();
         for j in 0..self.size() {
-            let y = scratch.column(j);
-            for i in 0..self.size() {
-                out[(i, j)] += self.phi.column(i).dot(&y);
+            let y = &data[j * rows..(j + 1) * rows];
+            for i in 0..=j {
+                let v = self.sparse.dot_mode(i, y);
+                out[(i, j)] += v;
+                if i != j {
+                    out[(j, i)] += v;
+                }
             }
         }
     }
