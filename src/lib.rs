@@ -16,6 +16,7 @@ pub mod problem;
 pub mod report;
 pub mod rom;
 pub mod sim;
+pub mod solve;
 pub mod uncertain;
 
 /// Version of drillopt, recorded in every result file.

@@ -6,8 +6,10 @@
 
 mod error;
 pub mod schema;
+pub mod study;
 pub mod units;
 mod validate;
+mod validate_study;
 
 pub use error::ProblemError;
 pub use units::{Dimension, UnitError};
@@ -28,6 +30,8 @@ pub struct Problem {
     pub mesh: Mesh,
     pub operating_point: OperatingPoint,
     pub simulation: Simulation,
+    /// Uncertain parameters, objective, constraints, optimizer and expected optimum (issue 4).
+    pub study: study::Study,
 }
 
 impl Problem {

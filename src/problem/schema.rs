@@ -52,6 +52,11 @@ pub struct ProblemFile {
     pub mesh: MeshSection,
     pub operating_point: OperatingPointSection,
     pub simulation: SimulationSection,
+    pub uncertain: Option<super::study::UncertainSection>,
+    pub objective: Option<super::study::ObjectiveSection>,
+    pub constraints: Option<super::study::ConstraintsSection>,
+    pub optimizer: Option<super::study::OptimizerSection>,
+    pub expect: Option<super::study::ExpectSection>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

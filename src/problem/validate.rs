@@ -65,12 +65,12 @@ fn syntax(text: &str, file: &Path, e: &toml::de::Error) -> ProblemError {
 }
 
 /// Reads values from the raw file and checks them, naming the file and key on failure.
-struct Checker<'a> {
-    file: &'a Path,
+pub(super) struct Checker<'a> {
+    pub(super) file: &'a Path,
 }
 
 impl Checker<'_> {
-    fn fail(&self, key: &str, message: String) -> ProblemError {
+    pub(super) fn fail(&self, key: &str, message: String) -> ProblemError {
         ProblemError::Invalid {
             file: self.file.to_path_buf(),
             key: key.to_string(),
@@ -79,7 +79,12 @@ impl Checker<'_> {
     }
 
     /// A finite value in SI units.
-    fn value(&self, key: &str, raw: &RawQuantity, dim: Dimension) -> Result<f64, ProblemError> {
+    pub(super) fn value(
+        &self,
+        key: &str,
+        raw: &RawQuantity,
+        dim: Dimension,
+    ) -> Result<f64, ProblemError> {
         let v = match raw {
             RawQuantity::Number(v) => *v,
             RawQuantity::Text(t) => dim.parse(t).map_err(|e| self.fail(key, e.to_string()))?,
@@ -92,7 +97,7 @@ impl Checker<'_> {
     }
 
     /// A value that must satisfy `ok`; `allowed` says what is allowed, in words.
-    fn check(
+    pub(super) fn check(
         &self,
         key: &str,
         v: f64,
@@ -108,12 +113,17 @@ impl Checker<'_> {
         }
     }
 
-    fn positive(&self, key: &str, raw: &RawQuantity, dim: Dimension) -> Result<f64, ProblemError> {
+    pub(super) fn positive(
+        &self,
+        key: &str,
+        raw: &RawQuantity,
+        dim: Dimension,
+    ) -> Result<f64, ProblemError> {
         let v = self.value(key, raw, dim)?;
         self.check(key, v, v > 0.0, "> 0", dim)
     }
 
-    fn non_negative(
+    pub(super) fn non_negative(
         &self,
         key: &str,
         raw: &RawQuantity,
@@ -130,6 +140,7 @@ pub(super) fn problem(raw: ProblemFile, file: &Path) -> Result<Problem, ProblemE
     let mesh = mesh(&c, &raw.mesh)?;
     let operating_point = operating_point(&c, &raw.operating_point)?;
     let simulation = simulation(&c, &raw.simulation, model.length)?;
+    let study = super::validate_study::study(&c, &raw, &model, &operating_point)?;
     let name = match raw.name {
         Some(n) if n.trim().is_empty() || n.contains(['/', '\\']) || n == "." || n == ".." => {
             return Err(c.fail(
@@ -152,6 +163,7 @@ pub(super) fn problem(raw: ProblemFile, file: &Path) -> Result<Problem, ProblemE
         mesh,
         operating_point,
         simulation,
+        study,
     })
 }
 

@@ -9,6 +9,7 @@
 mod atomic;
 mod csv;
 mod plots;
+mod study_plots;
 #[cfg(test)]
 mod testdata;
 
@@ -17,4 +18,8 @@ pub use csv::{probe_column_name, timeseries_csv, write_timeseries_csv};
 pub use plots::{
     PLOT_BUCKETS, Panel, PlotError, decimate_min_max, plot_bit_axial, plot_bit_rotation,
     plot_panels, plot_probe_radial,
+};
+pub use study_plots::{
+    ConstraintLine, EvaluatedPoint, Region, plot_bit_speed_overlay, plot_heatmap,
+    plot_metric_samples, plot_optimizer_path,
 };

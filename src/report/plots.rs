@@ -55,6 +55,14 @@ pub enum PlotError {
         len: usize,
         t_len: usize,
     },
+    /// A grid of values does not have one value per node (row-major, V0 rows × Ω columns).
+    #[error("plotting {}: {len} values for a grid of {n_v0} V0 × {n_omega} Ω nodes", .path.display())]
+    GridMismatch {
+        path: PathBuf,
+        len: usize,
+        n_omega: usize,
+        n_v0: usize,
+    },
     /// The requested radial probe does not exist.
     #[error("plotting {}: probe index {index} out of range, the series has {count} probes", .path.display())]
     NoSuchProbe {
@@ -245,7 +253,7 @@ pub fn decimate_min_max(t: &[f64], y: &[f64], buckets: usize) -> Vec<(f64, f64)>
 /// The range [lo, hi] (lo < hi, both finite) of the finite `values`, widened by `pad` times the
 /// span on each side. A constant (or numerically constant) set is widened by 5 % of its
 /// magnitude, or by 1 if it is zero; no finite value at all gives [0, 1].
-fn axis_range(values: impl IntoIterator<Item = f64>, pad: f64) -> (f64, f64) {
+pub(super) fn axis_range(values: impl IntoIterator<Item = f64>, pad: f64) -> (f64, f64) {
     let (lo, hi) = values
         .into_iter()
         .filter(|v| v.is_finite())
@@ -271,7 +279,7 @@ fn axis_range(values: impl IntoIterator<Item = f64>, pad: f64) -> (f64, f64) {
 /// Formats tick value `v` of an axis spanning [lo, hi] with just enough digits for the tick step.
 /// Plotters places at most ~11 ticks at multiples of 1, 2 or 5 × 10ᵏ, so the step is at least
 /// span / 12 and its decade fixes the digits. Very large or very small axes use exponents.
-fn tick_label(v: f64, lo: f64, hi: f64) -> String {
+pub(super) fn tick_label(v: f64, lo: f64, hi: f64) -> String {
     let step = (hi - lo).abs() / 12.0;
     if !step.is_finite() || step <= 0.0 || !v.is_finite() {
         return format!("{v}");

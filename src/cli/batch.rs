@@ -1,0 +1,189 @@
+//! `drillopt batch DIR`: solve every problem of DIR that has an `[expect]` section and check the
+//! optimum against its expected ranges; a pass/fail table; exit status 1 on any failure.
+
+use crate::problem::Problem;
+use clap::Args;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Args)]
+pub struct BatchArgs {
+    /// Directory of problem files (*.toml, searched recursively).
+    pub dir: PathBuf,
+    /// Output root (default results/<problem>/batch per problem).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    #[arg(long)]
+    pub resume: bool,
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+fn toml_files(dir: &Path, out: &mut Vec<PathBuf>) -> anyhow::Result<()> {
+    let mut entries: Vec<_> = std::fs::read_dir(dir)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?
+        .collect::<Result<_, _>>()?;
+    entries.sort_by_key(|e| e.path());
+    for e in entries {
+        let p = e.path();
+        if p.is_dir() {
+            toml_files(&p, out)?;
+        } else if p.extension().is_some_and(|x| x == "toml") {
+            out.push(p);
+        }
+    }
+    Ok(())
+}
+
+/// The verdict on one problem.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Verdict {
+    pub problem: String,
+    pub pass: bool,
+    pub detail: String,
+}
+
+/// Check an optimum against the expected ranges.
+pub fn check(
+    expect: &crate::problem::study::Expect,
+    omega: f64,
+    v0: f64,
+    score: f64,
+) -> (bool, String) {
+    let mut fails = Vec::new();
+    let rpm = |w: f64| w * 30.0 / std::f64::consts::PI;
+    if !(expect.omega[0]..=expect.omega[1]).contains(&omega) {
+        fails.push(format!(
+            "Ω = {:.1} rpm outside [{:.1}, {:.1}]",
+            rpm(omega),
+            rpm(expect.omega[0]),
+            rpm(expect.omega[1])
+        ));
+    }
+    if !(expect.v0[0]..=expect.v0[1]).contains(&v0) {
+        fails.push(format!(
+            "V0 = {:.2} m/h outside [{:.2}, {:.2}]",
+            v0 * 3600.0,
+            expect.v0[0] * 3600.0,
+            expect.v0[1] * 3600.0
+        ));
+    }
+    if let Some([lo, hi]) = expect.objective
+        && !(lo..=hi).contains(&score)
+    {
+        fails.push(format!("score {score:.3} outside [{lo}, {hi}]"));
+    }
+    if fails.is_empty() {
+        (
+            true,
+            format!(
+                "Ω = {:.1} rpm, V0 = {:.2} m/h, score {score:.3}",
+                rpm(omega),
+                v0 * 3600.0
+            ),
+        )
+    } else {
+        (false, fails.join("; "))
+    }
+}
+
+pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
+    let mut files = Vec::new();
+    toml_files(&args.dir, &mut files)?;
+    let mut verdicts = Vec::new();
+    for file in &files {
+        let problem = match Problem::load(file) {
+            Ok(p) => p,
+            Err(e) => {
+                verdicts.push(Verdict {
+                    problem: file.display().to_string(),
+                    pass: false,
+                    detail: format!("invalid: {e}"),
+                });
+                continue;
+            }
+        };
+        let Some(expect) = problem.study.expect.clone() else {
+            if !args.quiet {
+                println!("skip {} (no [expect] section)", file.display());
+            }
+            continue;
+        };
+        let out = match &args.out {
+            Some(root) => root.join(&problem.name),
+            None => Path::new("results").join(&problem.name).join("batch"),
+        };
+        let verdict =
+            match super::solve::solve_and_report(&problem, file, &out, args.resume, args.quiet) {
+                Err(e) => Verdict {
+                    problem: problem.name.clone(),
+                    pass: false,
+                    detail: format!("error: {e:#}"),
+                },
+                Ok(outcome) => match outcome.best {
+                    None => Verdict {
+                        problem: problem.name.clone(),
+                        pass: false,
+                        detail: "no feasible point".into(),
+                    },
+                    Some(b) => {
+                        let (pass, detail) = check(
+                            &expect,
+                            b.omega_rad_s,
+                            b.v0_m_s,
+                            b.objective.unwrap_or(f64::NAN),
+                        );
+                        Verdict {
+                            problem: problem.name.clone(),
+                            pass,
+                            detail,
+                        }
+                    }
+                },
+            };
+        verdicts.push(verdict);
+    }
+    println!("{:30} {:6} detail", "problem", "result");
+    for v in &verdicts {
+        println!(
+            "{:30} {:6} {}",
+            v.problem,
+            if v.pass { "PASS" } else { "FAIL" },
+            v.detail
+        );
+    }
+    let failed = verdicts.iter().filter(|v| !v.pass).count();
+    anyhow::ensure!(
+        !verdicts.is_empty(),
+        "no problem with an [expect] section in {}",
+        args.dir.display()
+    );
+    anyhow::ensure!(
+        failed == 0,
+        "{failed} of {} regression problems failed",
+        verdicts.len()
+    );
+    println!("all {} regression problems pass", verdicts.len());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::problem::study::Expect;
+
+    #[test]
+    fn check_reports_each_range_it_misses() {
+        let e = Expect {
+            omega: [5.0, 8.0],
+            v0: [1e-3, 2e-3],
+            objective: Some([1.0, 2.0]),
+            reason: "test".into(),
+        };
+        assert!(super::check(&e, 6.0, 1.5e-3, 1.5).0);
+        let (pass, why) = super::check(&e, 9.0, 3e-3, 2.5);
+        assert!(!pass);
+        assert!(
+            why.contains("Ω") && why.contains("V0") && why.contains("score"),
+            "{why}"
+        );
+    }
+}

@@ -1,0 +1,121 @@
+//! `drillopt compare PROBLEM --point 60rpm,5m/h --point 50rpm,25m/h …`: the robust statistics of
+//! given operating points side by side, `compare.json`, and one plot overlaying their bit speeds
+//! (nominal sample).
+
+use super::study::{self, WorkJson};
+use crate::model::OperatingPoint;
+use crate::problem::{Dimension, Problem};
+use crate::report;
+use crate::sim;
+use anyhow::Context;
+use clap::Args;
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    pub problem: PathBuf,
+    /// An operating point "OMEGA,V0" with units, e.g. 60rpm,5m/h (repeat the flag).
+    #[arg(long = "point", required = true)]
+    pub points: Vec<String>,
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    #[arg(long)]
+    pub resume: bool,
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
+    let (w, v) = text
+        .split_once(',')
+        .with_context(|| format!("--point {text}: expected OMEGA,V0 such as 60rpm,5m/h"))?;
+    let omega = Dimension::AngularVelocity
+        .parse(w.trim())
+        .with_context(|| format!("--point {text}: rotation speed"))?;
+    let v0 = Dimension::Velocity
+        .parse(v.trim())
+        .with_context(|| format!("--point {text}: axial velocity"))?;
+    anyhow::ensure!(
+        omega > 0.0 && v0 > 0.0 && omega.is_finite() && v0.is_finite(),
+        "--point {text}: both values must be finite and > 0"
+    );
+    Ok(OperatingPoint { omega, v0 })
+}
+
+#[derive(Serialize)]
+struct CompareJson<'a> {
+    problem: &'a str,
+    problem_file: String,
+    version: &'a str,
+    seed: u64,
+    samples: usize,
+    points: Vec<crate::objective::PointEvaluation>,
+    work: WorkJson,
+}
+
+pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    let problem = Problem::load(&args.problem)?;
+    let ops = args
+        .points
+        .iter()
+        .map(|p| parse_point(p))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let out = study::out_dir(&args.out, &problem, "compare");
+    let clock = Instant::now();
+    let cache = study::open_cache(&out, args.resume)?;
+    let bar = study::progress_bar(
+        args.quiet,
+        (ops.len() * problem.study.samples.max(1)) as u64,
+        "compare",
+    );
+    let ev = study::evaluator(&problem, Some(&cache), &bar)?;
+    let points = ev.evaluate(&ops);
+    bar.finish_and_clear();
+    // Bit-speed histories of the nominal model, for the overlay plot.
+    let runs: Vec<(String, sim::RunOutput)> = ops
+        .iter()
+        .map(|op| {
+            let label = format!(
+                "{:.0} rpm, {:.1} m/h",
+                op.omega * 30.0 / std::f64::consts::PI,
+                op.v0 * 3600.0
+            );
+            sim::run_problem(&problem, *op, problem.simulation.duration, |_| {}).map(|r| (label, r))
+        })
+        .collect::<Result<_, _>>()
+        .context("modal analysis")?;
+    let json = CompareJson {
+        problem: &problem.name,
+        problem_file: args.problem.display().to_string(),
+        version: crate::VERSION,
+        seed: problem.study.seed,
+        samples: problem.study.samples,
+        points: points.clone(),
+        work: WorkJson::of(&ev, clock.elapsed().as_secs_f64()),
+    };
+    report::write_json_atomic(&out.join("compare.json"), &json)?;
+    super::study_plots::compare_plots(&out, &runs)?;
+    if !args.quiet {
+        println!("{}", study::TABLE_HEADER);
+        for p in &points {
+            println!("{}", study::table_row(p));
+        }
+        println!("  results in {}", out.display());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn points_parse_with_units_and_bad_ones_are_refused() {
+        let p = super::parse_point("60rpm, 5m/h").unwrap();
+        assert!((p.omega - 2.0 * std::f64::consts::PI).abs() < 1e-12);
+        assert!((p.v0 - 5.0 / 3600.0).abs() < 1e-15);
+        assert!(super::parse_point("60rpm").is_err());
+        assert!(super::parse_point("60rpm,-5m/h").is_err());
+        assert!(super::parse_point("60 furlongs,5m/h").is_err());
+    }
+}

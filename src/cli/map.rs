@@ -1,0 +1,128 @@
+//! `drillopt map PROBLEM [--grid 15x15]`: the objective and every risk metric over a grid of the
+//! feasible box, as heat maps with the optimum marked, and `map.json`.
+
+use super::study::{self, WorkJson};
+use crate::problem::Problem;
+use crate::report;
+use crate::solve;
+use anyhow::Context;
+use clap::Args;
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Debug, Args)]
+pub struct MapArgs {
+    pub problem: PathBuf,
+    /// Grid size n_Ω x n_V0 (default: the problem's optimizer.grid).
+    #[arg(long)]
+    pub grid: Option<String>,
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Reuse the finished simulations of an interrupted run.
+    #[arg(long)]
+    pub resume: bool,
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+#[derive(Serialize)]
+struct MapJson<'a> {
+    problem: &'a str,
+    problem_file: String,
+    version: &'a str,
+    seed: u64,
+    samples: usize,
+    grid: [usize; 2],
+    omega_rad_s: &'a [f64],
+    v0_m_s: &'a [f64],
+    /// Row-major (V0 rows, Ω columns); null outside the linear constraints.
+    points: Vec<Option<super::solve::EvaluationJsonPub>>,
+    optimum: Option<super::study::PointJson>,
+    optimum_objective: Option<f64>,
+    work: WorkJson,
+}
+
+pub fn parse_grid(text: &str) -> anyhow::Result<[usize; 2]> {
+    let parts: Vec<&str> = text.split(['x', 'X']).collect();
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|n| (2..=200).contains(n))
+    };
+    match parts.as_slice() {
+        [a, b] => match (parse(a), parse(b)) {
+            (Some(a), Some(b)) => Ok([a, b]),
+            _ => anyhow::bail!("--grid {text}: each size must be an integer in [2, 200]"),
+        },
+        _ => anyhow::bail!("--grid {text}: expected n_omega x n_v0, e.g. 15x15"),
+    }
+}
+
+pub fn run(args: &MapArgs) -> anyhow::Result<()> {
+    let problem = Problem::load(&args.problem)?;
+    let grid = match &args.grid {
+        Some(g) => parse_grid(g)?,
+        None => problem.study.optimizer.grid,
+    };
+    let out = study::out_dir(&args.out, &problem, "map");
+    let clock = Instant::now();
+    let cache = study::open_cache(&out, args.resume)?;
+    let bar = study::progress_bar(
+        args.quiet,
+        (grid[0] * grid[1] * problem.study.samples.max(1)) as u64,
+        "map",
+    );
+    let ev = study::evaluator(&problem, Some(&cache), &bar)?;
+    let m = solve::map(&problem, &ev, grid).context("map")?;
+    bar.finish_and_clear();
+    let json = MapJson {
+        problem: &problem.name,
+        problem_file: args.problem.display().to_string(),
+        version: crate::VERSION,
+        seed: problem.study.seed,
+        samples: problem.study.samples,
+        grid,
+        omega_rad_s: &m.omega,
+        v0_m_s: &m.v0,
+        points: m
+            .points
+            .iter()
+            .map(|p| p.as_ref().map(super::solve::evaluation_json))
+            .collect(),
+        optimum: m.best.as_ref().map(super::study::PointJson::of),
+        optimum_objective: m.best.as_ref().and_then(|b| b.objective),
+        work: WorkJson::of(&ev, clock.elapsed().as_secs_f64()),
+    };
+    report::write_json_atomic(&out.join("map.json"), &json)?;
+    super::study_plots::map_plots(&problem, &out, &m)?;
+    if !args.quiet {
+        println!("{}", study::TABLE_HEADER);
+        for p in m.points.iter().flatten() {
+            println!("{}", study::table_row(p));
+        }
+        match &m.best {
+            Some(b) => println!(
+                "best grid point: Ω = {:.1} rpm, V0 = {:.2} m/h, score {:.3}",
+                b.omega_rpm,
+                b.v0_m_per_h,
+                b.objective.unwrap_or(f64::NAN)
+            ),
+            None => println!("no feasible grid point"),
+        }
+        println!("  results in {}", out.display());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn grid_sizes_parse_and_bad_ones_are_refused() {
+        assert_eq!(super::parse_grid("15x9").unwrap(), [15, 9]);
+        assert!(super::parse_grid("15").is_err());
+        assert!(super::parse_grid("1x5").is_err());
+        assert!(super::parse_grid("ax5").is_err());
+    }
+}

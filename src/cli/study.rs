@@ -1,0 +1,119 @@
+//! What `solve`, `compare`, `map` and `batch` share: the evaluation cache, the robust evaluator
+//! with its progress bar, and the JSON shapes of operating points and evaluations.
+
+use crate::cache::EvalCache;
+use crate::objective::{PointEvaluation, RobustEvaluator};
+use crate::problem::Problem;
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Where a command writes: `--out` or `results/<problem>/<command>/`.
+pub fn out_dir(out: &Option<PathBuf>, problem: &Problem, command: &str) -> PathBuf {
+    out.clone()
+        .unwrap_or_else(|| Path::new("results").join(&problem.name).join(command))
+}
+
+/// Open the evaluation cache `<out>/cache.jsonl`: continued with `resume`, else started afresh
+/// (an old cache is kept beside as `cache.jsonl.old`).
+pub fn open_cache(out: &Path, resume: bool) -> anyhow::Result<EvalCache> {
+    let path = out.join("cache.jsonl");
+    if !resume && path.exists() {
+        std::fs::rename(&path, out.join("cache.jsonl.old"))
+            .with_context(|| format!("moving the old cache {} aside", path.display()))?;
+    }
+    Ok(EvalCache::open(&path)?)
+}
+
+pub fn progress_bar(quiet: bool, total: u64, label: &str) -> ProgressBar {
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(total)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(&format!(
+            "{{spinner}} {label} [{{bar:40}}] {{pos}}/{{len}} simulations {{msg}} ({{elapsed}}, eta {{eta}})"
+        ))
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    bar
+}
+
+/// The evaluator of a problem, ticking `bar` after every simulation.
+pub fn evaluator<'a>(
+    problem: &'a Problem,
+    cache: Option<&'a EvalCache>,
+    bar: &'a ProgressBar,
+) -> anyhow::Result<RobustEvaluator<'a>> {
+    Ok(RobustEvaluator::new(problem, cache)
+        .context("setting up the robust evaluation")?
+        .with_progress(move || bar.inc(1)))
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PointJson {
+    pub omega_rad_s: f64,
+    pub omega_rpm: f64,
+    pub v0_m_s: f64,
+    pub v0_m_per_h: f64,
+}
+
+impl PointJson {
+    pub fn of(p: &PointEvaluation) -> Self {
+        PointJson {
+            omega_rad_s: p.omega_rad_s,
+            omega_rpm: p.omega_rpm,
+            v0_m_s: p.v0_m_s,
+            v0_m_per_h: p.v0_m_per_h,
+        }
+    }
+}
+
+/// Work done, for the report and the terminal.
+#[derive(Debug, Clone, Serialize)]
+pub struct WorkJson {
+    pub simulations_run: usize,
+    pub simulations_from_cache: usize,
+    pub simulations_failed: usize,
+    pub samples_per_point: usize,
+    pub wall_time_s: f64,
+}
+
+impl WorkJson {
+    pub fn of(ev: &RobustEvaluator, wall_time_s: f64) -> Self {
+        use std::sync::atomic::Ordering::Relaxed;
+        WorkJson {
+            simulations_run: ev.counters.simulated.load(Relaxed),
+            simulations_from_cache: ev.counters.cached.load(Relaxed),
+            simulations_failed: ev.counters.failed.load(Relaxed),
+            samples_per_point: ev.samples_per_point(),
+            wall_time_s,
+        }
+    }
+}
+
+/// One line of a terminal table for a point.
+pub fn table_row(p: &PointEvaluation) -> String {
+    let score = p
+        .objective
+        .map_or_else(|| "   failed".to_string(), |s| format!("{s:9.3}"));
+    let m = |k: &str| p.mean_metrics.get(k).copied().unwrap_or(f64::NAN);
+    format!(
+        "{:7.1} {:8.2} {} {:8.3} {:6.2} {:7.2} {:9.1} {:8.1} {}",
+        p.omega_rpm,
+        p.v0_m_per_h,
+        score,
+        m("mean_rop_m_per_h"),
+        m("stick_slip_severity"),
+        m("stick_fraction"),
+        m("impacts_per_s"),
+        m("mean_wob_n") / 1e3,
+        if p.feasible { "yes" } else { "no" }
+    )
+}
+
+pub const TABLE_HEADER: &str =
+    "    rpm      m/h     score  ROP m/h    SSI   stick  impacts/s  WOB kN feasible";

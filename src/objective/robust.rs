@@ -1,0 +1,429 @@
+//! The robust evaluation of operating points: every point is simulated for every Monte Carlo
+//! sample (the same samples at every point: common random numbers), the metrics are combined into
+//! the score of [`crate::problem::study`], and chance constraints are estimated.
+//!
+//! All (point, sample) simulations of a batch run in parallel with rayon; each result is looked
+//! up in, and stored to, the evaluation cache first, so no simulation runs twice and an
+//! interrupted run resumes without losing finished work. A simulation that fails (diverges,
+//! leaves the finite range, cannot step) makes its point infeasible; it is recorded, never a crash.
+
+use super::statistic::Statistic;
+use crate::cache::{CacheKey, EvalCache, EvalInfo, Outcome, stable_hash};
+use crate::metrics::{self, MetricsConfig};
+use crate::model::{Drillstring, OperatingPoint};
+use crate::problem::Problem;
+use crate::problem::study::{Quantity, Study};
+use crate::rom::{EigenError, ReducedModel};
+use crate::sim::{Effects, InitialState, RunSettings, simulate};
+use crate::uncertain::{Distribution, SampleSet};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// The outcome of one sample at one point.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SampleResult {
+    pub sample: usize,
+    pub seed: u64,
+    /// Metric name → value (the keys of `summary.json`), or why the simulation failed.
+    #[serde(flatten)]
+    pub outcome: SampleOutcome,
+    /// Taken from the evaluation cache rather than simulated now.
+    pub cached: bool,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SampleOutcome {
+    Metrics(BTreeMap<String, f64>),
+    Failed(String),
+}
+
+/// One risk term at a point: the statistic of the metric and its weighted share of the score.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RiskValue {
+    pub metric: String,
+    pub statistic: Statistic,
+    pub value: f64,
+    pub weight: f64,
+    pub penalty: f64,
+}
+
+/// One chance constraint at a point: estimated P(metric > threshold) against its limit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChanceValue {
+    pub metric: String,
+    pub threshold: f64,
+    pub probability: f64,
+    pub max_probability: f64,
+    pub satisfied: bool,
+}
+
+/// The robust evaluation of one operating point.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PointEvaluation {
+    pub omega_rad_s: f64,
+    pub v0_m_s: f64,
+    pub omega_rpm: f64,
+    pub v0_m_per_h: f64,
+    /// The score (maximised); None when a sample failed.
+    pub objective: Option<f64>,
+    /// Statistic of the quantity (ROP in m/h or efficiency) before the risk penalties.
+    pub quantity: Option<f64>,
+    pub risk: Vec<RiskValue>,
+    pub chance: Vec<ChanceValue>,
+    /// No sample failed and every chance constraint holds.
+    pub feasible: bool,
+    /// Why the point is infeasible or failed, if it is.
+    pub failure: Option<String>,
+    /// Mean of every metric over the samples (when none failed).
+    pub mean_metrics: BTreeMap<String, f64>,
+    pub samples: Vec<SampleResult>,
+}
+
+impl PointEvaluation {
+    pub fn op(&self) -> OperatingPoint {
+        OperatingPoint {
+            omega: self.omega_rad_s,
+            v0: self.v0_m_s,
+        }
+    }
+}
+
+/// Counters of work done (for notes and the resume test).
+#[derive(Debug, Default)]
+pub struct WorkCounters {
+    /// Simulations actually run.
+    pub simulated: AtomicUsize,
+    /// Simulations answered by the cache.
+    pub cached: AtomicUsize,
+    /// Simulations that failed.
+    pub failed: AtomicUsize,
+}
+
+/// Evaluates operating points of one problem robustly.
+pub struct RobustEvaluator<'a> {
+    pub problem: &'a Problem,
+    pub samples: SampleSet,
+    /// One reduced model per sample (shared when no uncertain parameter changes the operators).
+    models: Vec<Arc<ReducedModel>>,
+    settings: RunSettings,
+    cache: Option<&'a EvalCache>,
+    pub model_hash: u64,
+    pub counters: WorkCounters,
+    progress: Option<Box<dyn Fn() + Sync + 'a>>,
+}
+
+/// Why the evaluator could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    #[error("modal analysis of sample {sample}: {source}")]
+    Modes { sample: usize, source: EigenError },
+    #[error(
+        "sample {sample} draws {key} = {value}, which is not admissible; narrow its law in [[uncertain.parameter]]"
+    )]
+    Inadmissible {
+        sample: usize,
+        key: &'static str,
+        value: f64,
+    },
+}
+
+/// Hash of everything that determines a simulation's result apart from the operating point and
+/// the sample: drillopt's version, the model, mesh, simulation window and uncertain laws.
+pub fn model_hash(problem: &Problem) -> u64 {
+    let laws: Vec<(&str, Distribution)> = problem
+        .study
+        .uncertain
+        .iter()
+        .map(|u| (u.key.name(), u.law))
+        .collect();
+    let text = format!(
+        "drillopt {}|{:?}|{:?}|{:?}|{:?}",
+        crate::VERSION,
+        problem.model,
+        problem.mesh,
+        problem.simulation,
+        laws
+    );
+    stable_hash(text.as_bytes())
+}
+
+impl<'a> RobustEvaluator<'a> {
+    /// Draw the samples and build the reduced models.
+    pub fn new(problem: &'a Problem, cache: Option<&'a EvalCache>) -> Result<Self, SetupError> {
+        let study = &problem.study;
+        let laws: Vec<Distribution> = study.uncertain.iter().map(|u| u.law).collect();
+        let samples = SampleSet::draw_or_nominal(&laws, study.samples, study.seed);
+        let strings = samples
+            .samples
+            .iter()
+            .map(|s| {
+                let mut string = problem.model.clone();
+                for (u, &value) in study.uncertain.iter().zip(&s.values) {
+                    if !u.key.admissible(&string, value) {
+                        return Err(SetupError::Inadmissible {
+                            sample: s.index,
+                            key: u.key.name(),
+                            value,
+                        });
+                    }
+                    u.key.apply(&mut string, value);
+                }
+                Ok(string)
+            })
+            .collect::<Result<Vec<Drillstring>, _>>()?;
+        let rebuild = study
+            .uncertain
+            .iter()
+            .any(|u| u.key.changes_reduced_operators());
+        let build = |i: usize, s: &Drillstring| {
+            ReducedModel::new(s, problem.mesh.elements, problem.mesh.reduced_modes)
+                .map_err(|source| SetupError::Modes { sample: i, source })
+        };
+        let models = if rebuild {
+            strings
+                .par_iter()
+                .enumerate()
+                .map(|(i, s)| build(i, s).map(Arc::new))
+                .collect::<Result<Vec<_>, _>>()?
+        } else {
+            let nominal = build(0, &problem.model)?;
+            strings
+                .iter()
+                .map(|s| {
+                    // Bit, wall and borehole parameters act in the nonlinear forces only.
+                    let mut m = nominal.clone();
+                    m.string = s.clone();
+                    Arc::new(m)
+                })
+                .collect()
+        };
+        let mut settings =
+            RunSettings::new(problem.simulation.duration, problem.simulation.time_step);
+        settings.probes = problem.simulation.probes.clone();
+        Ok(RobustEvaluator {
+            problem,
+            samples,
+            models,
+            settings,
+            cache,
+            model_hash: model_hash(problem),
+            counters: WorkCounters::default(),
+            progress: None,
+        })
+    }
+
+    /// Call `f` after every finished simulation (cached or run), e.g. to tick a progress bar.
+    pub fn with_progress(mut self, f: impl Fn() + Sync + 'a) -> Self {
+        self.progress = Some(Box::new(f));
+        self
+    }
+
+    /// Simulations per point.
+    pub fn samples_per_point(&self) -> usize {
+        self.samples.len()
+    }
+
+    /// Evaluate several points; all their (point, sample) simulations run in parallel.
+    pub fn evaluate(&self, points: &[OperatingPoint]) -> Vec<PointEvaluation> {
+        let n = self.samples.len();
+        let results: Vec<SampleResult> = (0..points.len() * n)
+            .into_par_iter()
+            .map(|k| self.run_sample(points[k / n], k % n))
+            .collect();
+        points
+            .iter()
+            .zip(results.chunks(n))
+            .map(|(op, s)| self.score(*op, s.to_vec()))
+            .collect()
+    }
+
+    fn run_sample(&self, op: OperatingPoint, index: usize) -> SampleResult {
+        let sample = &self.samples.samples[index];
+        let key = CacheKey::new(op.omega, op.v0, index, sample.seed, self.model_hash);
+        let done = |outcome: SampleOutcome, cached: bool| {
+            if let Some(p) = &self.progress {
+                p();
+            }
+            SampleResult {
+                sample: index,
+                seed: sample.seed,
+                outcome,
+                cached,
+            }
+        };
+        if let Some(hit) = self.cache.and_then(|c| c.get(&key)) {
+            self.counters.cached.fetch_add(1, Ordering::Relaxed);
+            return done(from_cache(hit), true);
+        }
+        let clock = Instant::now();
+        let outcome = self.simulate(op, index);
+        self.counters.simulated.fetch_add(1, Ordering::Relaxed);
+        if matches!(outcome, SampleOutcome::Failed(_)) {
+            self.counters.failed.fetch_add(1, Ordering::Relaxed);
+        }
+        if let Some(cache) = self.cache {
+            let stored = match &outcome {
+                SampleOutcome::Metrics(m) => Outcome::Ok { metrics: m.clone() },
+                SampleOutcome::Failed(msg) => Outcome::Failed {
+                    message: msg.clone(),
+                },
+            };
+            let info = EvalInfo {
+                wall_time_s: Some(clock.elapsed().as_secs_f64()),
+                version: Some(crate::VERSION.to_string()),
+            };
+            // A cache that cannot be written costs a re-simulation later, never this result.
+            if let Err(e) = cache.insert_with_info(key, stored, Some(info)) {
+                eprintln!("warning: {e}");
+            }
+        }
+        done(outcome, false)
+    }
+
+    fn simulate(&self, op: OperatingPoint, index: usize) -> SampleOutcome {
+        let model = &self.models[index];
+        let out = simulate(
+            model,
+            op,
+            Effects::ALL,
+            &self.settings,
+            InitialState::StaticEquilibrium,
+            |_| {},
+        );
+        if let Some(e) = out.error {
+            return SampleOutcome::Failed(e.to_string());
+        }
+        let sim = &self.problem.simulation;
+        let settling = sim.settling_time.min(0.5 * sim.duration);
+        let config = MetricsConfig::new(op.omega, op.v0, model.string.borehole_radius, settling);
+        match metrics::compute(&out.series, &config) {
+            Ok(m) => SampleOutcome::Metrics(metric_map(&m)),
+            Err(e) => SampleOutcome::Failed(format!("metrics: {e}")),
+        }
+    }
+
+    /// Combine the samples of one point into its score, risk terms and chance constraints.
+    pub fn score(&self, op: OperatingPoint, samples: Vec<SampleResult>) -> PointEvaluation {
+        score(&self.problem.study, op, samples)
+    }
+}
+
+fn from_cache(o: Outcome) -> SampleOutcome {
+    match o {
+        Outcome::Ok { metrics } => SampleOutcome::Metrics(metrics),
+        Outcome::Failed { message } => SampleOutcome::Failed(message),
+    }
+}
+
+/// Metric name → value, from the serialised [`metrics::Metrics`] (its field names are the keys).
+pub fn metric_map(m: &metrics::Metrics) -> BTreeMap<String, f64> {
+    let value = serde_json::to_value(m).expect("metrics serialise");
+    value
+        .as_object()
+        .expect("metrics are a struct")
+        .iter()
+        .map(|(k, v)| (k.clone(), v.as_f64().unwrap_or(f64::NAN)))
+        .collect()
+}
+
+/// The score of a point from its samples (see [`crate::problem::study`] for the conventions).
+pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> PointEvaluation {
+    let mut eval = PointEvaluation {
+        omega_rad_s: op.omega,
+        v0_m_s: op.v0,
+        omega_rpm: op.omega * 30.0 / std::f64::consts::PI,
+        v0_m_per_h: op.v0 * 3600.0,
+        objective: None,
+        quantity: None,
+        risk: Vec::new(),
+        chance: Vec::new(),
+        feasible: false,
+        failure: None,
+        mean_metrics: BTreeMap::new(),
+        samples: Vec::new(),
+    };
+    let maps: Vec<&BTreeMap<String, f64>> = samples
+        .iter()
+        .filter_map(|s| match &s.outcome {
+            SampleOutcome::Metrics(m) => Some(m),
+            SampleOutcome::Failed(_) => None,
+        })
+        .collect();
+    if maps.len() < samples.len() {
+        let (i, why) = samples
+            .iter()
+            .find_map(|s| match &s.outcome {
+                SampleOutcome::Failed(w) => Some((s.sample, w.clone())),
+                _ => None,
+            })
+            .expect("a failed sample");
+        eval.failure = Some(format!(
+            "{} of {} simulations failed (sample {i}: {why})",
+            samples.len() - maps.len(),
+            samples.len()
+        ));
+        eval.samples = samples;
+        return eval;
+    }
+    let column = |name: &str| -> Vec<f64> {
+        maps.iter()
+            .map(|m| m.get(name).copied().unwrap_or(f64::NAN))
+            .collect()
+    };
+    if let Some(first) = maps.first() {
+        for k in first.keys() {
+            eval.mean_metrics
+                .insert(k.clone(), super::statistic::mean(&column(k)));
+        }
+    }
+    let quantity = match study.quantity {
+        Quantity::Rop => study.statistic.apply(&column("mean_rop_m_per_h")),
+        Quantity::Efficiency => study.statistic.apply(&column("efficiency")),
+    };
+    let mut score = quantity;
+    for r in &study.risk {
+        let value = r.statistic.apply(&column(&r.metric));
+        let penalty = r.weight * value;
+        score -= penalty;
+        eval.risk.push(RiskValue {
+            metric: r.metric.clone(),
+            statistic: r.statistic,
+            value,
+            weight: r.weight,
+            penalty,
+        });
+    }
+    let mut feasible = true;
+    if let Some(k) = &study.constraints {
+        for c in &k.chance {
+            let probability = super::statistic::prob_exceed(&column(&c.metric), c.threshold);
+            let satisfied = probability <= c.max_probability;
+            feasible &= satisfied;
+            eval.chance.push(ChanceValue {
+                metric: c.metric.clone(),
+                threshold: c.threshold,
+                probability,
+                max_probability: c.max_probability,
+                satisfied,
+            });
+        }
+    }
+    if !score.is_finite() {
+        eval.failure = Some(format!("the score is not finite ({score})"));
+        eval.samples = samples;
+        return eval;
+    }
+    if !feasible {
+        eval.failure = Some("a chance constraint is violated".into());
+    }
+    eval.quantity = Some(quantity);
+    eval.objective = Some(score);
+    eval.feasible = feasible;
+    eval.samples = samples;
+    eval
+}

@@ -1,0 +1,356 @@
+//! The optimisation study of a problem file: uncertain parameters, the robust objective, the
+//! constraints, the optimizer and the expected optimum (issue 4). Sections are optional: without
+//! them a problem is deterministic, scored by its mean ROP, and cannot be solved (no bounds).
+//!
+//! Conventions: the score is MAXIMISED. For `quantity = "rop"` it is in m/h:
+//! score = statistic(ROP in m/h) − Σ weight_k · statistic_k(metric_k), weights in m/h per unit of
+//! the metric's statistic; for `quantity = "efficiency"` it is dimensionless. Metrics are those of
+//! `summary.json` (MODEL.md §8), in SI units as named.
+
+use super::schema::RawQuantity;
+use crate::objective::statistic::Statistic;
+use crate::uncertain::Distribution;
+use serde::Deserialize;
+
+// ---------------------------------------------------------------- raw (as written) ------------
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UncertainSection {
+    pub samples: i64,
+    pub seed: Option<i64>,
+    #[serde(default)]
+    pub parameter: Vec<RawParameter>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawParameter {
+    pub key: String,
+    pub law: String,
+    pub mean: Option<RawQuantity>,
+    pub cov: Option<f64>,
+    pub std: Option<RawQuantity>,
+    pub low: Option<RawQuantity>,
+    pub high: Option<RawQuantity>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectiveSection {
+    pub quantity: Option<String>,
+    pub statistic: Option<String>,
+    pub level: Option<f64>,
+    pub threshold: Option<f64>,
+    #[serde(default)]
+    pub risk: Vec<RawRisk>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRisk {
+    pub metric: String,
+    pub statistic: Option<String>,
+    pub level: Option<f64>,
+    pub threshold: Option<f64>,
+    pub weight: f64,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintsSection {
+    pub omega: Vec<RawQuantity>,
+    pub v0: Vec<RawQuantity>,
+    pub max_depth_of_cut: Option<RawQuantity>,
+    #[serde(default)]
+    pub linear: Vec<RawLinear>,
+    #[serde(default)]
+    pub chance: Vec<RawChance>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLinear {
+    pub omega: f64,
+    pub v0: f64,
+    pub upper: f64,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawChance {
+    pub metric: String,
+    pub threshold: f64,
+    pub max_probability: f64,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptimizerSection {
+    pub method: Option<String>,
+    pub max_evaluations: Option<i64>,
+    pub grid: Option<Vec<i64>>,
+    pub start: Option<Vec<RawQuantity>>,
+    pub initial_radius: Option<f64>,
+    pub min_radius: Option<f64>,
+    pub seed: Option<i64>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExpectSection {
+    pub omega: Vec<RawQuantity>,
+    pub v0: Vec<RawQuantity>,
+    pub objective: Option<Vec<f64>>,
+    pub reason: String,
+}
+
+// ---------------------------------------------------------------- validated -------------------
+
+/// A model parameter that can be declared uncertain, by its key in the problem file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ParameterKey {
+    BitLimitForce,
+    BitRate,
+    BitFriction,
+    WallStiffness,
+    WallDamping,
+    WallFriction,
+    PipeDamping,
+    PipeDensity,
+    YoungsModulus,
+    FluidDensity,
+    BoreholeRadius,
+}
+
+impl ParameterKey {
+    pub const ALL: [ParameterKey; 11] = [
+        ParameterKey::BitLimitForce,
+        ParameterKey::BitRate,
+        ParameterKey::BitFriction,
+        ParameterKey::WallStiffness,
+        ParameterKey::WallDamping,
+        ParameterKey::WallFriction,
+        ParameterKey::PipeDamping,
+        ParameterKey::PipeDensity,
+        ParameterKey::YoungsModulus,
+        ParameterKey::FluidDensity,
+        ParameterKey::BoreholeRadius,
+    ];
+
+    /// The key as written in the problem file.
+    pub fn name(self) -> &'static str {
+        match self {
+            ParameterKey::BitLimitForce => "model.bit.limit_force",
+            ParameterKey::BitRate => "model.bit.rate",
+            ParameterKey::BitFriction => "model.bit.friction",
+            ParameterKey::WallStiffness => "model.wall.stiffness",
+            ParameterKey::WallDamping => "model.wall.damping",
+            ParameterKey::WallFriction => "model.wall.friction",
+            ParameterKey::PipeDamping => "model.pipe.damping",
+            ParameterKey::PipeDensity => "model.pipe.density",
+            ParameterKey::YoungsModulus => "model.pipe.youngs_modulus",
+            ParameterKey::FluidDensity => "model.fluid.density",
+            ParameterKey::BoreholeRadius => "model.borehole.radius",
+        }
+    }
+
+    pub fn parse(text: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == text)
+    }
+
+    pub fn dimension(self) -> super::Dimension {
+        use super::Dimension::*;
+        match self {
+            ParameterKey::BitLimitForce => Force,
+            ParameterKey::BitRate => InverseVelocity,
+            ParameterKey::BitFriction => Length,
+            ParameterKey::WallStiffness => Stiffness,
+            ParameterKey::WallDamping => Dimensionless,
+            ParameterKey::WallFriction => Dimensionless,
+            ParameterKey::PipeDamping => Rate,
+            ParameterKey::PipeDensity | ParameterKey::FluidDensity => Density,
+            ParameterKey::YoungsModulus => Pressure,
+            ParameterKey::BoreholeRadius => Length,
+        }
+    }
+
+    /// Whether the parameter enters the linear operators (K, M, C) and so the reduced basis;
+    /// the others (bit, wall, borehole) act only in the nonlinear forces.
+    pub fn changes_reduced_operators(self) -> bool {
+        matches!(
+            self,
+            ParameterKey::PipeDamping
+                | ParameterKey::PipeDensity
+                | ParameterKey::YoungsModulus
+                | ParameterKey::FluidDensity
+        )
+    }
+
+    /// Set the parameter in a drillstring (SI value).
+    pub fn apply(self, s: &mut crate::model::Drillstring, value: f64) {
+        match self {
+            ParameterKey::BitLimitForce => s.bit.limit_force = value,
+            ParameterKey::BitRate => s.bit.rate = value,
+            ParameterKey::BitFriction => s.bit.friction = value,
+            ParameterKey::WallStiffness => s.wall.stiffness = value,
+            ParameterKey::WallDamping => s.wall.damping = value,
+            ParameterKey::WallFriction => s.wall.friction = value,
+            ParameterKey::PipeDamping => s.damping = value,
+            ParameterKey::PipeDensity => s.pipe.density = value,
+            ParameterKey::YoungsModulus => s.pipe.youngs_modulus = value,
+            ParameterKey::FluidDensity => s.fluid_density = value,
+            ParameterKey::BoreholeRadius => s.borehole_radius = value,
+        }
+    }
+
+    /// Whether a value is physically admissible for the parameter (checked per sample).
+    pub fn admissible(self, s: &crate::model::Drillstring, value: f64) -> bool {
+        match self {
+            ParameterKey::BoreholeRadius => value > s.pipe.outer_radius,
+            ParameterKey::FluidDensity | ParameterKey::WallDamping | ParameterKey::PipeDamping => {
+                value >= 0.0
+            }
+            _ => value > 0.0,
+        }
+    }
+}
+
+/// One uncertain parameter and its law (SI units).
+#[derive(Debug, Clone, PartialEq)]
+pub struct UncertainParameter {
+    pub key: ParameterKey,
+    pub law: Distribution,
+}
+
+/// What the score is a statistic of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// Mean rate of penetration, m/h.
+    Rop,
+    /// Drilling efficiency, dimensionless.
+    Efficiency,
+}
+
+/// A weighted risk term: weight · statistic(metric) is subtracted from the score.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RiskTerm {
+    pub metric: String,
+    pub statistic: Statistic,
+    pub weight: f64,
+}
+
+/// P(metric > threshold) ≤ max_probability.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChanceConstraint {
+    pub metric: String,
+    pub threshold: f64,
+    pub max_probability: f64,
+}
+
+/// a_Ω Ω + a_V V0 ≤ upper (Ω in rad/s, V0 in m/s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearConstraint {
+    pub omega: f64,
+    pub v0: f64,
+    pub upper: f64,
+    /// Where it came from, for reports (e.g. "max_depth_of_cut").
+    pub label: &'static str,
+}
+
+/// Bounds and linear constraints on (Ω, V0), plus chance constraints on metrics.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Constraints {
+    /// [min, max] of Ω, rad/s.
+    pub omega: [f64; 2],
+    /// [min, max] of V0, m/s.
+    pub v0: [f64; 2],
+    pub linear: Vec<LinearConstraint>,
+    pub chance: Vec<ChanceConstraint>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    TrustRegion,
+    NelderMead,
+    ParticleSwarm,
+    Grid,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::TrustRegion => "trust_region",
+            Method::NelderMead => "nelder_mead",
+            Method::ParticleSwarm => "particle_swarm",
+            Method::Grid => "grid",
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptimizerSettings {
+    pub method: Method,
+    /// Budget of design points (each one is `samples` simulations).
+    pub max_evaluations: usize,
+    /// Points per axis for `grid` (and `drillopt map` by default).
+    pub grid: [usize; 2],
+    /// Starting point (Ω rad/s, V0 m/s); the operating point unless set.
+    pub start: Option<[f64; 2]>,
+    /// Trust-region radii as fractions of the bounds box.
+    pub initial_radius: f64,
+    pub min_radius: f64,
+    /// Seed of the optimizer's own randomness (particle swarm).
+    pub seed: u64,
+}
+
+impl OptimizerSettings {
+    /// Seed of the optimizer's own randomness.
+    pub fn optimizer_seed(&self) -> u64 {
+        self.seed
+    }
+}
+
+/// The optimum a regression problem is known to have.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expect {
+    pub omega: [f64; 2],
+    pub v0: [f64; 2],
+    pub objective: Option<[f64; 2]>,
+    pub reason: String,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Study {
+    pub uncertain: Vec<UncertainParameter>,
+    /// Monte Carlo samples per design point (1 and no parameters: deterministic).
+    pub samples: usize,
+    pub seed: u64,
+    pub quantity: Quantity,
+    /// Statistic of the quantity (a gain: mean, lower_cvar, quantile, min).
+    pub statistic: Statistic,
+    pub risk: Vec<RiskTerm>,
+    pub constraints: Option<Constraints>,
+    pub optimizer: OptimizerSettings,
+    pub expect: Option<Expect>,
+}
+
+/// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
+pub const METRICS: [&str; 16] = [
+    "mean_rop_m_s",
+    "mean_rop_m_per_h",
+    "stick_slip_severity",
+    "stick_fraction",
+    "max_bit_speed_ratio",
+    "bit_bounce_fraction",
+    "axial_velocity_fluctuation",
+    "impacts_per_s",
+    "peak_wall_force_n",
+    "contact_impulse_ns",
+    "max_radial_over_gap",
+    "mean_wob_n",
+    "mean_tob_nm",
+    "mse_pa",
+    "efficiency",
+    "energy_balance_residual",
+];

@@ -1,0 +1,531 @@
+//! Validation of the study sections ([`super::study`]): every error names the file and the dotted
+//! key and says what is allowed.
+
+use super::ProblemError;
+use super::schema::{ProblemFile, RawQuantity};
+use super::study::*;
+use super::validate::Checker;
+use crate::model::{Drillstring, OperatingPoint};
+use crate::objective::statistic::Statistic;
+use crate::uncertain::Distribution;
+use std::f64::consts::PI;
+
+const GAINS: &str = "one of \"mean\", \"lower_cvar\", \"quantile\", \"min\"";
+const RISKS: &str =
+    "one of \"mean\", \"std_dev\", \"cvar\", \"prob_exceed\", \"quantile\", \"max\"";
+
+pub(super) fn study(
+    c: &Checker,
+    raw: &ProblemFile,
+    model: &Drillstring,
+    op: &OperatingPoint,
+) -> Result<Study, ProblemError> {
+    let (uncertain, samples, seed) = match &raw.uncertain {
+        None => (Vec::new(), 1, 0),
+        Some(u) => uncertain(c, u, model)?,
+    };
+    let (quantity, statistic, risk) = match &raw.objective {
+        None => (Quantity::Rop, Statistic::Mean, Vec::new()),
+        Some(o) => objective(c, o)?,
+    };
+    let constraints = raw
+        .constraints
+        .as_ref()
+        .map(|k| constraints(c, k))
+        .transpose()?;
+    let optimizer = optimizer(c, raw.optimizer.as_ref(), constraints.as_ref())?;
+    let expect = raw.expect.as_ref().map(|e| expect(c, e)).transpose()?;
+    if expect.is_some() && constraints.is_none() {
+        return Err(c.fail(
+            "expect",
+            "needs a [constraints] section (the bounds of Ω and V0) to be solvable".into(),
+        ));
+    }
+    let _ = op;
+    Ok(Study {
+        uncertain,
+        samples,
+        seed,
+        quantity,
+        statistic,
+        risk,
+        constraints,
+        optimizer,
+        expect,
+    })
+}
+
+fn seed(c: &Checker, key: &str, s: Option<i64>, default: u64) -> Result<u64, ProblemError> {
+    match s {
+        None => Ok(default),
+        Some(v) if v >= 0 => Ok(v as u64),
+        Some(v) => Err(c.fail(key, format!("must be an integer >= 0, got {v}"))),
+    }
+}
+
+fn uncertain(
+    c: &Checker,
+    u: &UncertainSection,
+    model: &Drillstring,
+) -> Result<(Vec<UncertainParameter>, usize, u64), ProblemError> {
+    if !(1..=10_000).contains(&u.samples) {
+        return Err(c.fail(
+            "uncertain.samples",
+            format!("must be an integer in [1, 10000], got {}", u.samples),
+        ));
+    }
+    let seed = seed(c, "uncertain.seed", u.seed, 0)?;
+    let mut params: Vec<UncertainParameter> = Vec::new();
+    for (i, p) in u.parameter.iter().enumerate() {
+        let at = |k: &str| format!("uncertain.parameter[{i}].{k}");
+        let key = ParameterKey::parse(&p.key).ok_or_else(|| {
+            let names: Vec<_> = ParameterKey::ALL.iter().map(|k| k.name()).collect();
+            c.fail(
+                &at("key"),
+                format!("must be one of {}, got {:?}", names.join(", "), p.key),
+            )
+        })?;
+        if params.iter().any(|q| q.key == key) {
+            return Err(c.fail(&at("key"), format!("{:?} is declared twice", p.key)));
+        }
+        let dim = key.dimension();
+        let value = |name: &str, v: &Option<RawQuantity>| -> Result<f64, ProblemError> {
+            match v {
+                Some(v) => c.value(&at(name), v, dim),
+                None => Err(c.fail(&at(name), format!("is required for law = {:?}", p.law))),
+            }
+        };
+        let cov = |v: Option<f64>| {
+            v.ok_or_else(|| c.fail(&at("cov"), format!("is required for law = {:?}", p.law)))
+        };
+        let unused = |names: &[(&str, bool)]| -> Result<(), ProblemError> {
+            match names.iter().find(|(_, set)| *set) {
+                Some((n, _)) => {
+                    Err(c.fail(&at(n), format!("is not a parameter of law = {:?}", p.law)))
+                }
+                None => Ok(()),
+            }
+        };
+        let law = match p.law.as_str() {
+            "gamma" | "lognormal" => {
+                unused(&[
+                    ("std", p.std.is_some()),
+                    ("low", p.low.is_some()),
+                    ("high", p.high.is_some()),
+                ])?;
+                let (mean, cov) = (value("mean", &p.mean)?, cov(p.cov)?);
+                if p.law == "gamma" {
+                    Distribution::Gamma { mean, cov }
+                } else {
+                    Distribution::LogNormal { mean, cov }
+                }
+            }
+            "normal" => {
+                unused(&[
+                    ("cov", p.cov.is_some()),
+                    ("low", p.low.is_some()),
+                    ("high", p.high.is_some()),
+                ])?;
+                Distribution::Normal {
+                    mean: value("mean", &p.mean)?,
+                    std: value("std", &p.std)?,
+                }
+            }
+            "uniform" => {
+                unused(&[
+                    ("mean", p.mean.is_some()),
+                    ("cov", p.cov.is_some()),
+                    ("std", p.std.is_some()),
+                ])?;
+                Distribution::Uniform {
+                    low: value("low", &p.low)?,
+                    high: value("high", &p.high)?,
+                }
+            }
+            other => {
+                return Err(c.fail(
+                    &at("law"),
+                    format!(
+                        "must be one of \"gamma\", \"lognormal\", \"normal\", \"uniform\", got {other:?}"
+                    ),
+                ));
+            }
+        };
+        law.validate().map_err(|m| c.fail(&at("law"), m))?;
+        // A law whose bulk leaves the admissible range would make samples fail, not the
+        // optimisation: refuse it here (normal laws are not truncated).
+        let lo = law.lower_support().max(law.mean() - 4.0 * law.std_dev());
+        if !key.admissible(model, lo) {
+            return Err(c.fail(
+                &at("law"),
+                format!(
+                    "puts probability on inadmissible values of {} (mean − 4σ or the lower end = {lo}); use gamma or lognormal for a positive parameter",
+                    key.name()
+                ),
+            ));
+        }
+        params.push(UncertainParameter { key, law });
+    }
+    if params.is_empty() && u.samples > 1 {
+        return Err(c.fail(
+            "uncertain.parameter",
+            format!(
+                "is empty, so the {} samples would all be the same; declare at least one [[uncertain.parameter]] or set samples = 1",
+                u.samples
+            ),
+        ));
+    }
+    Ok((params, u.samples as usize, seed))
+}
+
+fn statistic(
+    c: &Checker,
+    key: &str,
+    name: &str,
+    level: Option<f64>,
+    threshold: Option<f64>,
+    allowed: &[&str],
+    allowed_text: &str,
+) -> Result<Statistic, ProblemError> {
+    if !allowed.contains(&name) {
+        return Err(c.fail(
+            &format!("{key}.statistic"),
+            format!("must be {allowed_text}, got {name:?}"),
+        ));
+    }
+    let need = |v: Option<f64>, what: &str| {
+        v.ok_or_else(|| {
+            c.fail(
+                &format!("{key}.{what}"),
+                format!("is required for statistic = {name:?}"),
+            )
+        })
+    };
+    let s = match name {
+        "mean" => Statistic::Mean,
+        "std_dev" => Statistic::StdDev,
+        "max" => Statistic::Max,
+        "min" => Statistic::Min,
+        "cvar" => Statistic::Cvar {
+            level: need(level, "level")?,
+        },
+        "lower_cvar" => Statistic::LowerCvar {
+            level: need(level, "level")?,
+        },
+        "quantile" => Statistic::Quantile {
+            level: need(level, "level")?,
+        },
+        "prob_exceed" => Statistic::ProbExceed {
+            threshold: need(threshold, "threshold")?,
+        },
+        _ => unreachable!("checked against the allowed names"),
+    };
+    let uses_level = matches!(name, "cvar" | "lower_cvar" | "quantile");
+    if level.is_some() && !uses_level {
+        return Err(c.fail(
+            &format!("{key}.level"),
+            format!("is not used by statistic = {name:?}"),
+        ));
+    }
+    if threshold.is_some() && name != "prob_exceed" {
+        return Err(c.fail(
+            &format!("{key}.threshold"),
+            format!("is not used by statistic = {name:?}"),
+        ));
+    }
+    s.validate()
+        .map_err(|m| c.fail(&format!("{key}.statistic"), m))?;
+    Ok(s)
+}
+
+fn metric(c: &Checker, key: &str, name: &str) -> Result<String, ProblemError> {
+    if METRICS.contains(&name) {
+        Ok(name.to_string())
+    } else {
+        Err(c.fail(
+            key,
+            format!("must be one of {}, got {name:?}", METRICS.join(", ")),
+        ))
+    }
+}
+
+fn objective(
+    c: &Checker,
+    o: &ObjectiveSection,
+) -> Result<(Quantity, Statistic, Vec<RiskTerm>), ProblemError> {
+    let quantity = match o.quantity.as_deref().unwrap_or("rop") {
+        "rop" => Quantity::Rop,
+        "efficiency" => Quantity::Efficiency,
+        other => {
+            return Err(c.fail(
+                "objective.quantity",
+                format!("must be \"rop\" or \"efficiency\", got {other:?}"),
+            ));
+        }
+    };
+    let stat = statistic(
+        c,
+        "objective",
+        o.statistic.as_deref().unwrap_or("mean"),
+        o.level,
+        o.threshold,
+        &["mean", "lower_cvar", "quantile", "min"],
+        GAINS,
+    )?;
+    let mut risk = Vec::new();
+    for (i, r) in o.risk.iter().enumerate() {
+        let key = format!("objective.risk[{i}]");
+        let m = metric(c, &format!("{key}.metric"), &r.metric)?;
+        let s = statistic(
+            c,
+            &key,
+            r.statistic.as_deref().unwrap_or("mean"),
+            r.level,
+            r.threshold,
+            &["mean", "std_dev", "cvar", "prob_exceed", "quantile", "max"],
+            RISKS,
+        )?;
+        if !(r.weight.is_finite() && r.weight >= 0.0) {
+            return Err(c.fail(
+                &format!("{key}.weight"),
+                format!("must be a finite number >= 0, got {}", r.weight),
+            ));
+        }
+        risk.push(RiskTerm {
+            metric: m,
+            statistic: s,
+            weight: r.weight,
+        });
+    }
+    Ok((quantity, stat, risk))
+}
+
+fn range(
+    c: &Checker,
+    key: &str,
+    raw: &[RawQuantity],
+    dim: super::Dimension,
+) -> Result<[f64; 2], ProblemError> {
+    if raw.len() != 2 {
+        return Err(c.fail(
+            key,
+            format!("must be a pair [min, max], got {} values", raw.len()),
+        ));
+    }
+    let lo = c.value(&format!("{key}[0]"), &raw[0], dim)?;
+    let hi = c.value(&format!("{key}[1]"), &raw[1], dim)?;
+    if !(lo > 0.0 && hi > lo) {
+        return Err(c.fail(
+            key,
+            format!(
+                "must satisfy 0 < min < max, got [{lo}, {hi}] {}",
+                dim.si_unit()
+            ),
+        ));
+    }
+    Ok([lo, hi])
+}
+
+fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, ProblemError> {
+    use super::Dimension::*;
+    let omega = range(c, "constraints.omega", &k.omega, AngularVelocity)?;
+    let v0 = range(c, "constraints.v0", &k.v0, Velocity)?;
+    let mut linear = Vec::new();
+    if let Some(d) = &k.max_depth_of_cut {
+        // Depth of cut per revolution 2π V0 / Ω ≤ d  ⇔  2π V0 − d Ω ≤ 0 (Ω > 0).
+        let d = c.positive("constraints.max_depth_of_cut", d, Length)?;
+        linear.push(LinearConstraint {
+            omega: -d,
+            v0: 2.0 * PI,
+            upper: 0.0,
+            label: "max_depth_of_cut",
+        });
+    }
+    for (i, l) in k.linear.iter().enumerate() {
+        let key = format!("constraints.linear[{i}]");
+        if ![l.omega, l.v0, l.upper].iter().all(|x| x.is_finite()) {
+            return Err(c.fail(&key, "coefficients must be finite numbers".into()));
+        }
+        if l.omega == 0.0 && l.v0 == 0.0 {
+            return Err(c.fail(
+                &key,
+                "needs a non-zero coefficient on omega or v0 (SI: per rad/s, per m/s)".into(),
+            ));
+        }
+        linear.push(LinearConstraint {
+            omega: l.omega,
+            v0: l.v0,
+            upper: l.upper,
+            label: "linear",
+        });
+    }
+    let mut chance = Vec::new();
+    for (i, ch) in k.chance.iter().enumerate() {
+        let key = format!("constraints.chance[{i}]");
+        let m = metric(c, &format!("{key}.metric"), &ch.metric)?;
+        if !ch.threshold.is_finite() {
+            return Err(c.fail(
+                &format!("{key}.threshold"),
+                format!("must be finite, got {}", ch.threshold),
+            ));
+        }
+        if !(0.0..1.0).contains(&ch.max_probability) {
+            return Err(c.fail(
+                &format!("{key}.max_probability"),
+                format!("must be in [0, 1), got {}", ch.max_probability),
+            ));
+        }
+        chance.push(ChanceConstraint {
+            metric: m,
+            threshold: ch.threshold,
+            max_probability: ch.max_probability,
+        });
+    }
+    Ok(Constraints {
+        omega,
+        v0,
+        linear,
+        chance,
+    })
+}
+
+fn optimizer(
+    c: &Checker,
+    o: Option<&OptimizerSection>,
+    constraints: Option<&Constraints>,
+) -> Result<OptimizerSettings, ProblemError> {
+    use super::Dimension::*;
+    let default = OptimizerSettings {
+        method: Method::TrustRegion,
+        max_evaluations: 30,
+        grid: [9, 9],
+        start: None,
+        initial_radius: 0.25,
+        min_radius: 0.02,
+        seed: 0,
+    };
+    let Some(o) = o else { return Ok(default) };
+    let method = match o.method.as_deref().unwrap_or("trust_region") {
+        "trust_region" => Method::TrustRegion,
+        "nelder_mead" => Method::NelderMead,
+        "particle_swarm" => Method::ParticleSwarm,
+        "grid" => Method::Grid,
+        other => {
+            return Err(c.fail(
+                "optimizer.method",
+                format!(
+                    "must be one of \"trust_region\", \"nelder_mead\", \"particle_swarm\", \"grid\", got {other:?}"
+                ),
+            ));
+        }
+    };
+    let max_evaluations = match o.max_evaluations {
+        None => default.max_evaluations,
+        Some(n) if (3..=100_000).contains(&n) => n as usize,
+        Some(n) => {
+            return Err(c.fail(
+                "optimizer.max_evaluations",
+                format!("must be an integer in [3, 100000], got {n}"),
+            ));
+        }
+    };
+    let grid = match &o.grid {
+        None => default.grid,
+        Some(g) if g.len() == 2 && g.iter().all(|n| (2..=200).contains(n)) => {
+            [g[0] as usize, g[1] as usize]
+        }
+        Some(g) => {
+            return Err(c.fail(
+                "optimizer.grid",
+                format!("must be [n_omega, n_v0] with each in [2, 200], got {g:?}"),
+            ));
+        }
+    };
+    let start = match &o.start {
+        None => None,
+        Some(s) if s.len() == 2 => {
+            let w = c.positive("optimizer.start[0]", &s[0], AngularVelocity)?;
+            let v = c.positive("optimizer.start[1]", &s[1], Velocity)?;
+            if let Some(k) = constraints
+                && (!(k.omega[0]..=k.omega[1]).contains(&w) || !(k.v0[0]..=k.v0[1]).contains(&v))
+            {
+                return Err(c.fail(
+                    "optimizer.start",
+                    format!(
+                        "must lie inside the bounds constraints.omega and constraints.v0, got ({w} rad/s, {v} m/s)"
+                    ),
+                ));
+            }
+            Some([w, v])
+        }
+        Some(s) => {
+            return Err(c.fail(
+                "optimizer.start",
+                format!("must be a pair [omega, v0], got {} values", s.len()),
+            ));
+        }
+    };
+    let fraction = |key: &str, v: Option<f64>, d: f64| -> Result<f64, ProblemError> {
+        match v {
+            None => Ok(d),
+            Some(x) if x > 0.0 && x <= 1.0 => Ok(x),
+            Some(x) => Err(c.fail(
+                key,
+                format!("must be a fraction of the bounds box in (0, 1], got {x}"),
+            )),
+        }
+    };
+    let initial_radius = fraction(
+        "optimizer.initial_radius",
+        o.initial_radius,
+        default.initial_radius,
+    )?;
+    let min_radius = fraction("optimizer.min_radius", o.min_radius, default.min_radius)?;
+    if min_radius >= initial_radius {
+        return Err(c.fail(
+            "optimizer.min_radius",
+            format!(
+                "must be smaller than optimizer.initial_radius ({initial_radius}), got {min_radius}"
+            ),
+        ));
+    }
+    Ok(OptimizerSettings {
+        method,
+        max_evaluations,
+        grid,
+        start,
+        initial_radius,
+        min_radius,
+        seed: seed(c, "optimizer.seed", o.seed, 0)?,
+    })
+}
+
+fn expect(c: &Checker, e: &ExpectSection) -> Result<Expect, ProblemError> {
+    use super::Dimension::*;
+    let omega = range(c, "expect.omega", &e.omega, AngularVelocity)?;
+    let v0 = range(c, "expect.v0", &e.v0, Velocity)?;
+    let objective = match &e.objective {
+        None => None,
+        Some(o) if o.len() == 2 && o[0].is_finite() && o[1].is_finite() && o[0] <= o[1] => {
+            Some([o[0], o[1]])
+        }
+        Some(o) => {
+            return Err(c.fail(
+                "expect.objective",
+                format!("must be a finite pair [min, max] with min <= max, got {o:?}"),
+            ));
+        }
+    };
+    if e.reason.trim().is_empty() {
+        return Err(c.fail(
+            "expect.reason",
+            "must say how the expected ranges were established (e.g. a `drillopt map` run)".into(),
+        ));
+    }
+    Ok(Expect {
+        omega,
+        v0,
+        objective,
+        reason: e.reason.clone(),
+    })
+}

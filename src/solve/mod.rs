@@ -1,0 +1,295 @@
+//! The study driver: the robust evaluator ([`crate::objective`]) seen by the optimizers
+//! ([`crate::optimize`]) as a black box on the unit box, and the three jobs built on it: the
+//! robust optimum ([`solve`]), a grid of the feasible box ([`map`]) and given points ([`compare`]
+//! is just [`RobustEvaluator::evaluate`]).
+
+mod scaling;
+
+pub use scaling::Scaling;
+
+use crate::model::OperatingPoint;
+use crate::objective::{PointEvaluation, RobustEvaluator};
+use crate::optimize::{
+    BlackBox, Evaluation, IterateCallback, NelderMeadOptions, OptimizeError, SwarmOptions,
+    TrustRegionOptions, grid_search, minimize_nelder_mead, minimize_particle_swarm,
+    minimize_trust_region,
+};
+use crate::problem::Problem;
+use crate::problem::study::{Constraints, Method};
+use serde::Serialize;
+use std::sync::Mutex;
+
+/// Why a study could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum SolveError {
+    #[error(
+        "{file}: the problem has no [constraints] section; solve and map need the bounds constraints.omega and constraints.v0"
+    )]
+    NoConstraints { file: String },
+    #[error("{file}: [constraints]: {message}")]
+    Infeasible { file: String, message: String },
+    #[error("optimizer: {0}")]
+    Optimize(#[from] OptimizeError),
+}
+
+/// The evaluator as a black box on the unit box: minimise −score subject to the chance
+/// constraints P_k − p_k ≤ 0. Every point evaluated is kept, in order.
+pub struct StudyBlackBox<'a, 'e> {
+    pub evaluator: &'a RobustEvaluator<'e>,
+    pub scaling: Scaling,
+    n_chance: usize,
+    pub log: Mutex<Vec<PointEvaluation>>,
+}
+
+impl<'a, 'e> StudyBlackBox<'a, 'e> {
+    pub fn new(evaluator: &'a RobustEvaluator<'e>, constraints: &Constraints) -> Self {
+        StudyBlackBox {
+            evaluator,
+            scaling: Scaling::of(constraints),
+            n_chance: constraints.chance.len(),
+            log: Mutex::new(Vec::new()),
+        }
+    }
+
+    fn to_evaluation(&self, p: &PointEvaluation) -> Evaluation {
+        match p.objective {
+            None => Evaluation::failure(self.n_chance),
+            Some(score) => Evaluation::new(
+                -score,
+                p.chance
+                    .iter()
+                    .map(|c| c.probability - c.max_probability)
+                    .collect(),
+            ),
+        }
+    }
+}
+
+impl BlackBox for StudyBlackBox<'_, '_> {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn n_constraints(&self) -> usize {
+        self.n_chance
+    }
+    fn evaluate(&self, x: &[f64]) -> Evaluation {
+        self.evaluate_batch(&[x.to_vec()]).remove(0)
+    }
+    fn evaluate_batch(&self, xs: &[Vec<f64>]) -> Vec<Evaluation> {
+        let ops: Vec<OperatingPoint> = xs.iter().map(|x| self.scaling.from_unit(x)).collect();
+        let points = self.evaluator.evaluate(&ops);
+        let out = points.iter().map(|p| self.to_evaluation(p)).collect();
+        self.log
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .extend(points);
+        out
+    }
+}
+
+/// One step of the optimizer's path, in physical units.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PathPoint {
+    pub iteration: usize,
+    pub omega_rad_s: f64,
+    pub v0_m_s: f64,
+    /// −merit: the score, less any chance-constraint penalty.
+    pub score: f64,
+    /// Trust-region radius as a fraction of the bounds box (trust region only).
+    pub radius: Option<f64>,
+    pub evaluations: usize,
+}
+
+/// What [`solve`] found.
+#[derive(Debug, Clone)]
+pub struct SolveOutcome {
+    pub method: Method,
+    /// The best feasible point evaluated (None if no point was feasible).
+    pub best: Option<PointEvaluation>,
+    /// Every point evaluated, in order.
+    pub evaluations: Vec<PointEvaluation>,
+    pub path: Vec<PathPoint>,
+    pub termination: String,
+}
+
+fn constraints_of(problem: &Problem) -> Result<&Constraints, SolveError> {
+    problem
+        .study
+        .constraints
+        .as_ref()
+        .ok_or_else(|| SolveError::NoConstraints {
+            file: problem.source.display().to_string(),
+        })
+}
+
+/// The feasible set in unit coordinates, refusing constraints that leave no feasible point.
+fn feasible_set(problem: &Problem) -> Result<crate::optimize::FeasibleSet, SolveError> {
+    let c = constraints_of(problem)?;
+    let set = Scaling::of(c).feasible_set(c)?;
+    set.find_feasible_point()
+        .map_err(|e| SolveError::Infeasible {
+            file: problem.source.display().to_string(),
+            message: format!("the bounds and linear constraints leave no feasible (Ω, V0): {e}"),
+        })?;
+    Ok(set)
+}
+
+/// The best of a list of evaluations: feasible first, then by score.
+pub fn best_point(points: &[PointEvaluation]) -> Option<PointEvaluation> {
+    points
+        .iter()
+        .filter(|p| p.feasible && p.objective.is_some())
+        .max_by(|a, b| {
+            a.objective
+                .partial_cmp(&b.objective)
+                .expect("finite scores")
+        })
+        .cloned()
+}
+
+/// The robust optimum of a problem with the method of its `[optimizer]` section.
+/// `on_iterate` is called with every iterate (e.g. to update a progress bar).
+pub fn solve(
+    problem: &Problem,
+    evaluator: &RobustEvaluator,
+    on_iterate: Option<IterateCallback>,
+) -> Result<SolveOutcome, SolveError> {
+    let constraints = constraints_of(problem)?;
+    let set = feasible_set(problem)?;
+    let settings = &problem.study.optimizer;
+    let bb = StudyBlackBox::new(evaluator, constraints);
+    let start = settings
+        .start
+        .map_or(problem.operating_point, |s| OperatingPoint {
+            omega: s[0],
+            v0: s[1],
+        });
+    let x0 = set.project(&bb.scaling.to_unit(start))?;
+    let result = match settings.method {
+        Method::TrustRegion => {
+            let opts = TrustRegionOptions {
+                initial_radius: settings.initial_radius,
+                min_radius: settings.min_radius,
+                max_radius: 0.5_f64.max(settings.initial_radius),
+                max_evaluations: settings.max_evaluations,
+                ..TrustRegionOptions::default()
+            };
+            Some(minimize_trust_region(&bb, &set, &x0, &opts, on_iterate)?)
+        }
+        Method::Grid => {
+            let n = settings.grid[0].max(settings.grid[1]);
+            Some(grid_search(&bb, &set, n, 0.0)?)
+        }
+        Method::NelderMead => {
+            let opts = NelderMeadOptions {
+                initial_step: settings.initial_radius,
+                xtol: settings.min_radius,
+                max_evaluations: settings.max_evaluations,
+                ..NelderMeadOptions::default()
+            };
+            Some(minimize_nelder_mead(&bb, &set, &x0, &opts, on_iterate)?)
+        }
+        Method::ParticleSwarm => {
+            let opts = SwarmOptions {
+                max_evaluations: settings.max_evaluations,
+                seed: settings.optimizer_seed(),
+                xtol: settings.min_radius,
+                ..SwarmOptions::default()
+            };
+            Some(minimize_particle_swarm(&bb, &set, &opts, on_iterate)?)
+        }
+    };
+    let evaluations = bb.log.into_inner().unwrap_or_else(|e| e.into_inner());
+    let (path, termination) = match &result {
+        Some(r) => (
+            r.path
+                .iter()
+                .map(|it| {
+                    let op = Scaling::of(constraints).from_unit(&it.x);
+                    PathPoint {
+                        iteration: it.iteration,
+                        omega_rad_s: op.omega,
+                        v0_m_s: op.v0,
+                        score: -it.merit,
+                        radius: it.radius,
+                        evaluations: it.evaluations,
+                    }
+                })
+                .collect(),
+            r.termination.clone(),
+        ),
+        None => (Vec::new(), "grid exhausted".to_string()),
+    };
+    let best = best_point(&evaluations);
+    Ok(SolveOutcome {
+        method: settings.method,
+        best,
+        evaluations,
+        path,
+        termination,
+    })
+}
+
+/// The objective and metrics over a grid of the feasible box.
+#[derive(Debug, Clone)]
+pub struct MapOutcome {
+    pub grid: [usize; 2],
+    /// Grid values of Ω (rad/s) and V0 (m/s).
+    pub omega: Vec<f64>,
+    pub v0: Vec<f64>,
+    /// Per grid node (row-major in V0, then Ω): the evaluation, None outside the linear constraints.
+    pub points: Vec<Option<PointEvaluation>>,
+    pub best: Option<PointEvaluation>,
+}
+
+/// Evaluate every grid node inside the constraints (all simulations in parallel).
+pub fn map(
+    problem: &Problem,
+    evaluator: &RobustEvaluator,
+    grid: [usize; 2],
+) -> Result<MapOutcome, SolveError> {
+    let constraints = constraints_of(problem)?;
+    let set = feasible_set(problem)?;
+    let scaling = Scaling::of(constraints);
+    let mut nodes = Vec::new();
+    for j in 0..grid[1] {
+        for i in 0..grid[0] {
+            nodes.push(vec![
+                i as f64 / (grid[0] - 1) as f64,
+                j as f64 / (grid[1] - 1) as f64,
+            ]);
+        }
+    }
+    let inside: Vec<bool> = nodes.iter().map(|x| set.contains(x, 1e-12)).collect();
+    let ops: Vec<OperatingPoint> = nodes
+        .iter()
+        .zip(&inside)
+        .filter(|(_, ok)| **ok)
+        .map(|(x, _)| scaling.from_unit(x))
+        .collect();
+    let mut evaluated = evaluator.evaluate(&ops).into_iter();
+    let points: Vec<Option<PointEvaluation>> = inside
+        .iter()
+        .map(|ok| if *ok { evaluated.next() } else { None })
+        .collect();
+    let flat: Vec<PointEvaluation> = points.iter().flatten().cloned().collect();
+    Ok(MapOutcome {
+        grid,
+        omega: (0..grid[0])
+            .map(|i| {
+                scaling
+                    .from_unit(&[i as f64 / (grid[0] - 1) as f64, 0.0])
+                    .omega
+            })
+            .collect(),
+        v0: (0..grid[1])
+            .map(|j| {
+                scaling
+                    .from_unit(&[0.0, j as f64 / (grid[1] - 1) as f64])
+                    .v0
+            })
+            .collect(),
+        best: best_point(&flat),
+        points,
+    })
+}

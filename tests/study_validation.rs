@@ -1,0 +1,153 @@
+//! The study sections of a problem file ([uncertain], [objective], [constraints], [optimizer],
+//! [expect]): bad input is refused with the file, the dotted key and what is allowed.
+
+use drillopt::problem::Problem;
+use std::path::Path;
+
+fn base() -> String {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/regression/tiny_string.toml"
+    ))
+    .unwrap();
+    // Everything up to the study sections.
+    text[..text.find("[objective]").unwrap()].to_string()
+}
+
+fn error(extra: &str) -> String {
+    match Problem::from_toml(&(base() + extra), Path::new("study.toml")) {
+        Ok(_) => panic!("accepted:\n{extra}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn assert_names(msg: &str, parts: &[&str]) {
+    for p in parts {
+        assert!(msg.contains(p), "{msg:?} lacks {p:?}");
+    }
+}
+
+#[test]
+fn a_complete_study_is_read_in_si_units() {
+    let p = Problem::from_toml(
+        &(base()
+            + r#"
+[uncertain]
+samples = 8
+seed = 3
+[[uncertain.parameter]]
+key = "model.bit.limit_force"
+law = "gamma"
+mean = "250 kN"
+cov = 0.1
+[objective]
+quantity = "rop"
+statistic = "lower_cvar"
+level = 0.8
+[[objective.risk]]
+metric = "impacts_per_s"
+statistic = "cvar"
+level = 0.9
+weight = 0.01
+[constraints]
+omega = ["30 rpm", "150 rpm"]
+v0 = ["2 m/h", "20 m/h"]
+max_depth_of_cut = "3 mm"
+[[constraints.chance]]
+metric = "stick_slip_severity"
+threshold = 2.0
+max_probability = 0.1
+[optimizer]
+method = "nelder_mead"
+max_evaluations = 20
+"#),
+        Path::new("study.toml"),
+    )
+    .unwrap();
+    let s = &p.study;
+    assert_eq!((s.samples, s.seed), (8, 3));
+    assert_eq!(s.uncertain[0].law.mean(), 250e3);
+    let c = s.constraints.as_ref().unwrap();
+    assert!((c.v0[1] - 20.0 / 3600.0).abs() < 1e-15);
+    // 2π V0 − d Ω ≤ 0 with d = 3 mm.
+    assert_eq!(c.linear[0].omega, -3e-3);
+    assert_eq!(c.chance[0].max_probability, 0.1);
+}
+
+#[test]
+fn misspelled_and_unknown_keys_are_refused() {
+    assert_names(
+        &error("[objective]\nquantitty = \"rop\"\n"),
+        &["study.toml", "quantitty"],
+    );
+    assert_names(
+        &error("[optimiser]\nmethod = \"grid\"\n"),
+        &["study.toml", "optimiser"],
+    );
+}
+
+#[test]
+fn bad_values_name_the_key_and_what_is_allowed() {
+    let cases: [(&str, &[&str]); 8] = [
+        (
+            "[uncertain]\nsamples = 4\n[[uncertain.parameter]]\nkey = \"model.bit.colour\"\nlaw = \"gamma\"\nmean = 1\ncov = 0.1\n",
+            &["uncertain.parameter[0].key", "model.bit.limit_force"],
+        ),
+        (
+            "[uncertain]\nsamples = 4\n[[uncertain.parameter]]\nkey = \"model.bit.rate\"\nlaw = \"weibull\"\nmean = 1\ncov = 0.1\n",
+            &["uncertain.parameter[0].law", "gamma"],
+        ),
+        (
+            "[uncertain]\nsamples = 4\n[[uncertain.parameter]]\nkey = \"model.bit.rate\"\nlaw = \"normal\"\nmean = \"180 s/m\"\nstd = \"100 s/m\"\n",
+            &["uncertain.parameter[0].law", "inadmissible"],
+        ),
+        (
+            "[uncertain]\nsamples = 4\n",
+            &["uncertain.parameter", "at least one"],
+        ),
+        (
+            "[objective]\n[[objective.risk]]\nmetric = \"vibes\"\nweight = 1.0\n",
+            &["objective.risk[0].metric", "stick_slip_severity"],
+        ),
+        (
+            "[objective]\n[[objective.risk]]\nmetric = \"impacts_per_s\"\nstatistic = \"cvar\"\nweight = 1.0\n",
+            &["objective.risk[0].level", "required"],
+        ),
+        (
+            "[constraints]\nomega = [\"30 rpm\"]\nv0 = [\"2 m/h\", \"20 m/h\"]\n",
+            &["constraints.omega", "pair"],
+        ),
+        (
+            "[constraints]\nomega = [\"30 rpm\", \"150 rpm\"]\nv0 = [\"2 m/h\", \"20 m/h\"]\n[[constraints.chance]]\nmetric = \"impacts_per_s\"\nthreshold = 1.0\nmax_probability = 1.5\n",
+            &["constraints.chance[0].max_probability", "[0, 1)"],
+        ),
+    ];
+    for (extra, parts) in cases {
+        let msg = error(extra);
+        assert_names(&msg, &["study.toml"]);
+        assert_names(&msg, parts);
+    }
+}
+
+#[test]
+fn constraints_that_leave_no_feasible_point_are_refused() {
+    // Depth of cut 0.1 mm/rev at ≤ 40 rpm allows V0 ≤ 0.24 m/h, below the 20 m/h lower bound.
+    let p = Problem::from_toml(
+        &(base()
+            + "[constraints]\nomega = [\"30 rpm\", \"40 rpm\"]\nv0 = [\"20 m/h\", \"30 m/h\"]\nmax_depth_of_cut = \"0.1 mm\"\n"),
+        Path::new("study.toml"),
+    )
+    .unwrap();
+    let ev = drillopt::objective::RobustEvaluator::new(&p, None).unwrap();
+    let err = drillopt::solve::solve(&p, &ev, None)
+        .unwrap_err()
+        .to_string();
+    assert_names(&err, &["study.toml", "constraints", "no feasible"]);
+    assert_eq!(
+        ev.counters
+            .simulated
+            .load(std::sync::atomic::Ordering::Relaxed),
+        0,
+        "nothing is simulated for an infeasible problem"
+    );
+}
