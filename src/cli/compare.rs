@@ -98,10 +98,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     report::write_json_atomic(&out.join("compare.json"), &json)?;
     super::study_plots::compare_plots(&out, &runs)?;
     if !args.quiet {
-        println!("{}", study::TABLE_HEADER);
-        for p in &points {
-            println!("{}", study::table_row(p));
-        }
+        study::print_table(&points);
         println!("  results in {}", out.display());
     }
     Ok(())

@@ -37,7 +37,7 @@ struct MapJson<'a> {
     omega_rad_s: &'a [f64],
     v0_m_s: &'a [f64],
     /// Row-major (V0 rows, Ω columns); null outside the linear constraints.
-    points: Vec<Option<super::solve::EvaluationJsonPub>>,
+    points: Vec<Option<super::solve::EvaluationJson>>,
     optimum: Option<super::study::PointJson>,
     optimum_objective: Option<f64>,
     work: WorkJson,
@@ -98,19 +98,9 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     report::write_json_atomic(&out.join("map.json"), &json)?;
     super::study_plots::map_plots(&problem, &out, &m)?;
     if !args.quiet {
-        println!("{}", study::TABLE_HEADER);
-        for p in m.points.iter().flatten() {
-            println!("{}", study::table_row(p));
-        }
-        match &m.best {
-            Some(b) => println!(
-                "best grid point: Ω = {:.1} rpm, V0 = {:.2} m/h, score {:.3}",
-                b.omega_rpm,
-                b.v0_m_per_h,
-                b.objective.unwrap_or(f64::NAN)
-            ),
-            None => println!("no feasible grid point"),
-        }
+        let evaluated: Vec<_> = m.points.iter().flatten().cloned().collect();
+        study::print_table(&evaluated);
+        study::print_best(m.best.as_ref(), "best grid point", "no feasible grid point");
         println!("  results in {}", out.display());
     }
     Ok(())

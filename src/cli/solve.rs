@@ -57,8 +57,9 @@ struct ConstraintsJson {
     chance: Vec<ChanceValue>,
 }
 
+/// One evaluated point without its per-sample detail (also used by `map`).
 #[derive(Serialize)]
-struct EvaluationJson {
+pub(super) struct EvaluationJson {
     omega_rad_s: f64,
     v0_m_s: f64,
     omega_rpm: f64,
@@ -115,8 +116,8 @@ fn constraints_json(c: &Constraints, best: &PointEvaluation) -> ConstraintsJson 
     }
 }
 
-pub fn evaluation_json(p: &PointEvaluation) -> EvaluationJsonPub {
-    EvaluationJsonPub(EvaluationJson {
+pub(super) fn evaluation_json(p: &PointEvaluation) -> EvaluationJson {
+    EvaluationJson {
         omega_rad_s: p.omega_rad_s,
         v0_m_s: p.v0_m_s,
         omega_rpm: p.omega_rpm,
@@ -125,13 +126,8 @@ pub fn evaluation_json(p: &PointEvaluation) -> EvaluationJsonPub {
         feasible: p.feasible,
         failure: p.failure.clone(),
         mean_metrics: p.mean_metrics.clone(),
-    })
+    }
 }
-
-/// A serialisable evaluation summary (no per-sample detail), shared with `map` and `batch`.
-#[derive(Serialize)]
-#[serde(transparent)]
-pub struct EvaluationJsonPub(EvaluationJson);
 
 /// Run the optimisation and write its report; returns the outcome for `batch`.
 pub fn solve_and_report(
@@ -206,11 +202,7 @@ fn write_report(
         metrics: best.map(|b| b.mean_metrics.clone()),
         metrics_per_sample: best.map(|b| b.samples.clone()),
         constraints: best.map(|b| constraints_json(constraints, b)),
-        evaluations: outcome
-            .evaluations
-            .iter()
-            .map(|p| evaluation_json(p).0)
-            .collect(),
+        evaluations: outcome.evaluations.iter().map(evaluation_json).collect(),
         path: &outcome.path,
         work,
     };
@@ -235,19 +227,12 @@ fn print_summary(
         ev.counters.cached.load(Relaxed),
         outcome.termination
     );
-    println!("{}", study::TABLE_HEADER);
-    for p in &outcome.evaluations {
-        println!("{}", study::table_row(p));
-    }
-    match &outcome.best {
-        Some(b) => println!(
-            "optimum: Ω = {:.1} rpm, V0 = {:.2} m/h, score {:.3}",
-            b.omega_rpm,
-            b.v0_m_per_h,
-            b.objective.unwrap_or(f64::NAN)
-        ),
-        None => println!("no feasible point was found"),
-    }
+    study::print_table(&outcome.evaluations);
+    study::print_best(
+        outcome.best.as_ref(),
+        "optimum",
+        "no feasible point was found",
+    );
     println!("  results in {}", out.display());
 }
 

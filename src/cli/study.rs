@@ -95,8 +95,29 @@ impl WorkJson {
     }
 }
 
+/// The terminal table of evaluated points.
+pub fn print_table(points: &[PointEvaluation]) {
+    println!("{TABLE_HEADER}");
+    for p in points {
+        println!("{}", table_row(p));
+    }
+}
+
+/// The best point's line, or `none` when there is none.
+pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str) {
+    match best {
+        Some(b) => println!(
+            "{label}: Ω = {:.1} rpm, V0 = {:.2} m/h, score {:.3}",
+            b.omega_rpm,
+            b.v0_m_per_h,
+            b.objective.unwrap_or(f64::NAN)
+        ),
+        None => println!("{none}"),
+    }
+}
+
 /// One line of a terminal table for a point.
-pub fn table_row(p: &PointEvaluation) -> String {
+fn table_row(p: &PointEvaluation) -> String {
     let score = p
         .objective
         .map_or_else(|| "   failed".to_string(), |s| format!("{s:9.3}"));
@@ -115,5 +136,5 @@ pub fn table_row(p: &PointEvaluation) -> String {
     )
 }
 
-pub const TABLE_HEADER: &str =
+const TABLE_HEADER: &str =
     "    rpm      m/h     score  ROP m/h    SSI   stick  impacts/s  WOB kN feasible";

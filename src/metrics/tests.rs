@@ -289,24 +289,8 @@ fn serializes_with_exactly_the_documented_keys() {
         .map(String::as_str)
         .collect();
     keys.sort_unstable();
-    let mut expected = vec![
-        "mean_rop_m_s",
-        "mean_rop_m_per_h",
-        "stick_slip_severity",
-        "stick_fraction",
-        "max_bit_speed_ratio",
-        "bit_bounce_fraction",
-        "axial_velocity_fluctuation",
-        "impacts_per_s",
-        "peak_wall_force_n",
-        "contact_impulse_ns",
-        "max_radial_over_gap",
-        "mean_wob_n",
-        "mean_tob_nm",
-        "mse_pa",
-        "efficiency",
-        "energy_balance_residual",
-    ];
+    // The list the problem files' risk terms and chance constraints are validated against.
+    let mut expected = crate::problem::study::METRICS.to_vec();
     expected.sort_unstable();
     assert_eq!(keys, expected);
     assert!(json.as_object().unwrap().values().all(|v| v.is_f64()));

@@ -304,13 +304,6 @@ pub struct OptimizerSettings {
     pub seed: u64,
 }
 
-impl OptimizerSettings {
-    /// Seed of the optimizer's own randomness.
-    pub fn optimizer_seed(&self) -> u64 {
-        self.seed
-    }
-}
-
 /// The optimum a regression problem is known to have.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Expect {

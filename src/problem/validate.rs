@@ -140,7 +140,7 @@ pub(super) fn problem(raw: ProblemFile, file: &Path) -> Result<Problem, ProblemE
     let mesh = mesh(&c, &raw.mesh)?;
     let operating_point = operating_point(&c, &raw.operating_point)?;
     let simulation = simulation(&c, &raw.simulation, model.length)?;
-    let study = super::validate_study::study(&c, &raw, &model, &operating_point)?;
+    let study = super::validate_study::study(&c, &raw, &model)?;
     let name = match raw.name {
         Some(n) if n.trim().is_empty() || n.contains(['/', '\\']) || n == "." || n == ".." => {
             return Err(c.fail(

@@ -5,7 +5,7 @@ use super::ProblemError;
 use super::schema::{ProblemFile, RawQuantity};
 use super::study::*;
 use super::validate::Checker;
-use crate::model::{Drillstring, OperatingPoint};
+use crate::model::Drillstring;
 use crate::objective::statistic::Statistic;
 use crate::uncertain::Distribution;
 use std::f64::consts::PI;
@@ -18,7 +18,6 @@ pub(super) fn study(
     c: &Checker,
     raw: &ProblemFile,
     model: &Drillstring,
-    op: &OperatingPoint,
 ) -> Result<Study, ProblemError> {
     let (uncertain, samples, seed) = match &raw.uncertain {
         None => (Vec::new(), 1, 0),
@@ -41,7 +40,6 @@ pub(super) fn study(
             "needs a [constraints] section (the bounds of Ω and V0) to be solvable".into(),
         ));
     }
-    let _ = op;
     Ok(Study {
         uncertain,
         samples,

@@ -290,8 +290,11 @@ fn value_range(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
 
 /// `v` with about 4 significant digits, exponent form when very large or small.
 fn fmt_sig(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{}", if v == 0.0 { 0.0 } else { v });
+    if v == 0.0 {
+        return "0".to_owned();
+    }
+    if !v.is_finite() {
+        return format!("{v}");
     }
     let decade = v.abs().log10().floor() as i32;
     if !(-3..5).contains(&decade) {
@@ -458,7 +461,7 @@ enum LegendEntry {
 fn draw_legend(area: &Area<'_>, entries: &[(LegendEntry, String)]) -> DrawResult {
     let x = 25;
     for (k, (entry, label)) in entries.iter().enumerate() {
-        let y = 20 + 28 * i32::try_from(k).unwrap_or(i32::MAX / 56);
+        let y = 20 + 28 * k as i32;
         match entry {
             LegendEntry::ScoredPoint => {
                 area.draw(&Circle::new((x, y), 5, viridis(0.6).filled()))?;
@@ -1695,90 +1698,5 @@ mod tests {
         assert_eq!(fmt_sig(1.5e-5), "1.500e-5");
         assert_eq!(fmt_sig(2.5e6), "2.500e6");
         assert_eq!(fmt_sig(f64::NAN), "NaN");
-    }
-
-    /// Writes every plot to `$DRILLOPT_STUDY_PLOTS_DIR` for looking at, e.g. after
-    /// `rsvg-convert -o path.png path.svg`.
-    #[test]
-    #[ignore = "writes SVGs to $DRILLOPT_STUDY_PLOTS_DIR for viewing"]
-    fn dump_for_inspection() {
-        let dir = std::path::PathBuf::from(
-            std::env::var_os("DRILLOPT_STUDY_PLOTS_DIR").expect("set DRILLOPT_STUDY_PLOTS_DIR"),
-        );
-        let r = region();
-        let points = evaluated(&r);
-        plot_optimizer_path(
-            &r,
-            &points,
-            &PATH,
-            Some((110.0, 15.0)),
-            "Trust-region path",
-            &dir.join("path.svg"),
-        )
-        .unwrap();
-        let spiral: Vec<(f64, f64)> = (0..40)
-            .map(|k| {
-                let (r, a) = (0.97f64.powi(k), 0.5 * k as f64);
-                (110.0 + 45.0 * r * a.cos(), 15.0 + 9.0 * r * a.sin())
-            })
-            .collect();
-        let many: Vec<EvaluatedPoint> = spiral
-            .iter()
-            .flat_map(|&(o, v)| [(o + 3.0, v - 1.0), (o - 2.0, v + 1.5)])
-            .enumerate()
-            .map(|(k, (o, v))| EvaluatedPoint {
-                omega_rpm: o,
-                v0_m_per_h: v,
-                score: (k % 7 != 3).then(|| -((o - 110.0) / 50.0).powi(2)),
-                feasible: feasible(&r, (o, v)),
-            })
-            .collect();
-        plot_optimizer_path(
-            &r,
-            &many,
-            &spiral,
-            spiral.last().copied(),
-            "Long path",
-            &dir.join("path_long.svg"),
-        )
-        .unwrap();
-        let omega: Vec<f64> = (0..13).map(|i| 40.0 + 10.0 * i as f64).collect();
-        let v0: Vec<f64> = (0..11).map(|j| 5.0 + 2.5 * j as f64).collect();
-        let mut values = Vec::new();
-        for &v in &v0 {
-            for &o in &omega {
-                values.push(
-                    (feasible(&r, (o, v)) && (o, v) != (60.0, 10.0))
-                        .then(|| -((o - 110.0) / 50.0).powi(2) - ((v - 15.0) / 10.0).powi(2)),
-                );
-            }
-        }
-        plot_heatmap(
-            "Robust score over the grid",
-            "score J",
-            &omega,
-            &v0,
-            &values,
-            Some((110.0, 15.0)),
-            &dir.join("heat.svg"),
-        )
-        .unwrap();
-        let metrics = vec![
-            (
-                "ROP [m/h]".to_owned(),
-                vec![10.0, 12.0, 11.0, 13.0, 14.0, 12.5, 11.7, 12.2],
-            ),
-            ("stick-slip severity [-]".to_owned(), vec![0.25]),
-            ("impacts [1/s]".to_owned(), vec![1.0, f64::NAN, 3.0]),
-        ];
-        plot_metric_samples("Metrics at the optimum", &metrics, &dir.join("metrics.svg")).unwrap();
-        let a = synthetic_series(100_000);
-        let mut b = synthetic_series(80_000);
-        b.bit_angular_velocity.iter_mut().for_each(|w| *w *= 0.5);
-        plot_bit_speed_overlay(
-            &[("nominal".into(), &a), ("half speed".into(), &b)],
-            &dir.join("overlay.svg"),
-        )
-        .unwrap();
     }
 }

@@ -192,7 +192,7 @@ pub fn solve(
         Method::ParticleSwarm => {
             let opts = SwarmOptions {
                 max_evaluations: settings.max_evaluations,
-                seed: settings.optimizer_seed(),
+                seed: settings.seed,
                 xtol: settings.min_radius,
                 ..SwarmOptions::default()
             };
