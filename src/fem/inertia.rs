@@ -10,15 +10,120 @@
 //!
 //! (the paper's fifth line of (11) repeats the fourth and is dropped). Here θ̇x is the absolute
 //! spin rate, rigid Ω included: 2ρIΩ θ̇ is the gyroscopic coupling of the two bending planes.
+//!
+//! As for the strains, the rows (θx, θy, θz) of the interpolation are kept by their non-zeros and
+//! the four Gauss points are evaluated together, one per lane ([`Lanes`]).
 
-use super::{BeamElement, ElementMatrix, ElementVector, gauss_legendre_4};
+use super::lanes::{Lanes, Real};
+use super::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector, gauss_legendre_4};
 use nalgebra::{Matrix3, SMatrix, Vector3};
+
+/// Element DOFs of θx (θx1, θx2), of the x–z plane (w1, θy1, w2, θy2) and of the x–y plane
+/// (v1, θz1, v2, θz2): the only DOFs the rows θx, θy, θz of the interpolation take.
+const TWIST_DOFS: [usize; 2] = [3, 9];
+const PLANE_XZ_DOFS: [usize; 4] = [2, 4, 8, 10];
+const PLANE_XY_DOFS: [usize; 4] = [1, 5, 7, 11];
+
+/// The rotation rows (θx, θy, θz) of the interpolation by their non-zeros (10 of 36; each DOF
+/// enters one row at most). [`ElementInertia::new`] checks that the rows vanish elsewhere. `T` is
+/// `f64` at one Gauss point, or [`Lanes`] for the four.
+#[derive(Debug, Clone, Copy)]
+struct SparseRotations<T> {
+    /// θx over [`TWIST_DOFS`].
+    x: [T; 2],
+    /// θy over [`PLANE_XZ_DOFS`].
+    y: [T; 4],
+    /// θz over [`PLANE_XY_DOFS`].
+    z: [T; 4],
+}
+
+impl SparseRotations<Lanes> {
+    /// The non-zeros of the dense rows (θx, θy, θz) at the four Gauss points; panics if the rows
+    /// do not vanish outside the pattern.
+    fn compress(rows: &[SMatrix<f64, 3, ELEMENT_DOF>; 4]) -> Self {
+        let mut rest = *rows;
+        let mut take = |r: usize, j: usize| {
+            Lanes(std::array::from_fn(|p| {
+                std::mem::take(&mut rest[p][(r, j)])
+            }))
+        };
+        let n = SparseRotations {
+            x: TWIST_DOFS.map(|j| take(0, j)),
+            y: PLANE_XZ_DOFS.map(|j| take(1, j)),
+            z: PLANE_XY_DOFS.map(|j| take(2, j)),
+        };
+        assert!(
+            rest.iter().flatten().all(|&x| x == 0.0),
+            "rotation interpolation has non-zeros outside the twist/bending pattern: {rest:?}"
+        );
+        n
+    }
+
+    /// The rows at Gauss point `p`.
+    fn point(&self, p: usize) -> SparseRotations<f64> {
+        let lane = |c: Lanes| c.0[p];
+        SparseRotations {
+            x: self.x.map(lane),
+            y: self.y.map(lane),
+            z: self.z.map(lane),
+        }
+    }
+}
+
+impl<T: Real> SparseRotations<T> {
+    /// (θx, θy, θz) = N x.
+    #[inline(always)]
+    fn apply(&self, x: &[f64; ELEMENT_DOF]) -> [T; 3] {
+        let ([x0, x1], [y0, y1, y2, y3], [z0, z1, z2, z3]) = (self.x, self.y, self.z);
+        let (jx, jy, jz) = (TWIST_DOFS, PLANE_XZ_DOFS, PLANE_XY_DOFS);
+        [
+            x0 * x[jx[0]] + x1 * x[jx[1]],
+            y0 * x[jy[0]] + y1 * x[jy[1]] + y2 * x[jy[2]] + y3 * x[jy[3]],
+            z0 * x[jz[0]] + z1 * x[jz[1]] + z2 * x[jz[2]] + z3 * x[jz[3]],
+        ]
+    }
+
+    /// Nᵀ p.
+    #[inline(always)]
+    fn transpose_product(&self, p: &[T; 3]) -> [T; ELEMENT_DOF] {
+        let mut f = [T::from(0.0); ELEMENT_DOF];
+        for (&j, &c) in TWIST_DOFS.iter().zip(&self.x) {
+            f[j] = c * p[0];
+        }
+        for k in 0..4 {
+            f[PLANE_XZ_DOFS[k]] = self.y[k] * p[1];
+            f[PLANE_XY_DOFS[k]] = self.z[k] * p[2];
+        }
+        f
+    }
+}
+
+impl SparseRotations<f64> {
+    /// k += Nᵀ m N, column by column: Nᵀ (m (N e_j)).
+    fn add_congruence(&self, m: &Matrix3<f64>, k: &mut ElementMatrix) {
+        for j in 0..ELEMENT_DOF {
+            let mut unit = [0.0; ELEMENT_DOF];
+            unit[j] = 1.0;
+            let mn = m * Vector3::from(self.apply(&unit));
+            let col = self.transpose_product(&mn.data.0[0]);
+            for (kij, c) in k.column_mut(j).iter_mut().zip(col) {
+                *kij += c;
+            }
+        }
+    }
+}
+
+/// The element DOFs as an array.
+fn dofs(x: &ElementVector) -> &[f64; ELEMENT_DOF] {
+    &x.data.0[0]
+}
 
 /// Rows (θx, θy, θz) of the interpolation at the element's Gauss points, with weights.
 #[derive(Debug, Clone)]
 pub struct ElementInertia {
-    rotations: [SMatrix<f64, 3, 12>; 4],
-    weights: [f64; 4],
+    /// The rows at the four Gauss points (one lane each), by their non-zeros.
+    rotations: SparseRotations<Lanes>,
+    weights: Lanes,
     /// Rotatory inertia per length ρI, kg·m.
     rho_i: f64,
 }
@@ -33,7 +138,7 @@ struct PointTangent {
 impl ElementInertia {
     pub fn new(element: &BeamElement) -> Self {
         let (xs, weights) = gauss_legendre_4(element.length);
-        let rotations = xs.map(|x| {
+        let rows = xs.map(|x| {
             element
                 .interpolation(x)
                 .value
@@ -41,33 +146,32 @@ impl ElementInertia {
                 .into_owned()
         });
         ElementInertia {
-            rotations,
-            weights,
+            rotations: SparseRotations::compress(&rows),
+            weights: Lanes(weights),
             rho_i: element.section.rotary_inertia,
         }
     }
 
-    fn point_force(
-        &self,
-        th: &Vector3<f64>,
-        rate: &Vector3<f64>,
-        acc: &Vector3<f64>,
-    ) -> Vector3<f64> {
+    /// Inertial force per length from the rotations (θy used), rates and accelerations.
+    #[inline(always)]
+    fn point_force<T: Real>(&self, th: &[T; 3], rate: &[T; 3], acc: &[T; 3]) -> [T; 3] {
         let k = 2.0 * self.rho_i;
         let (ty, wx, wy, wz) = (th[1], rate[0], rate[1], rate[2]);
-        Vector3::new(
-            k * (wy * wz + ty * acc[2]),
-            -k * (wx * wz + ty * wz * wz),
-            k * (wx * wy + ty * acc[0] + 2.0 * ty * wy * wz + ty * ty * acc[2]),
-        )
+        [
+            (wy * wz + ty * acc[2]) * k,
+            (wx * wz + ty * wz * wz) * -k,
+            (wx * wy + ty * acc[0] + ty * 2.0 * wy * wz + ty * ty * acc[2]) * k,
+        ]
     }
 
-    fn point_tangent(
-        &self,
-        th: &Vector3<f64>,
-        rate: &Vector3<f64>,
-        acc: &Vector3<f64>,
-    ) -> PointTangent {
+    /// T_nl per length over ρI: 2 θy θ̇x θ̇z + θy² θ̇z².
+    #[inline(always)]
+    fn point_energy<T: Real>(th: &[T; 3], rate: &[T; 3]) -> T {
+        let (ty, wx, wz) = (th[1], rate[0], rate[2]);
+        ty * 2.0 * wx * wz + ty * ty * wz * wz
+    }
+
+    fn point_tangent(&self, th: &[f64; 3], rate: &[f64; 3], acc: &[f64; 3]) -> PointTangent {
         let k = 2.0 * self.rho_i;
         let (ty, wx, wy, wz) = (th[1], rate[0], rate[1], rate[2]);
         #[rustfmt::skip]
@@ -98,12 +202,25 @@ impl ElementInertia {
     /// The nonlinear inertial force on the element's DOFs (left-hand side), N and N·m, from the
     /// absolute element displacement, velocity and acceleration vectors.
     pub fn force(&self, d: &ElementVector, v: &ElementVector, a: &ElementVector) -> ElementVector {
-        let mut f = ElementVector::zeros();
-        for (n, w) in self.rotations.iter().zip(self.weights) {
-            let p = self.point_force(&(n * d), &(n * v), &(n * a));
-            f.gemv_tr(w, n, &p, 1.0);
-        }
-        f
+        self.force_and_energy(d, v, a).0
+    }
+
+    /// The nonlinear inertial force, N and N·m (as [`Self::force`]), and the nonlinear kinetic
+    /// energy T_nl, J (as [`Self::energy`]), all four Gauss points at once.
+    #[inline]
+    pub fn force_and_energy(
+        &self,
+        d: &ElementVector,
+        v: &ElementVector,
+        a: &ElementVector,
+    ) -> (ElementVector, f64) {
+        let n = &self.rotations;
+        let (th, rate) = (n.apply(dofs(d)), n.apply(dofs(v)));
+        let p = self.point_force(&th, &rate, &n.apply(dofs(a)));
+        let w = self.weights;
+        let f = n.transpose_product(&[p[0] * w, p[1] * w, p[2] * w]);
+        let t = Self::point_energy(&th, &rate) * (w * self.rho_i);
+        (ElementVector::from_fn(|j, _| f[j].sum()), t.sum())
     }
 
     /// ∂force/∂d, ∂force/∂v, ∂force/∂a.
@@ -114,10 +231,11 @@ impl ElementInertia {
         a: &ElementVector,
     ) -> [ElementMatrix; 3] {
         let mut out = [ElementMatrix::zeros(); 3];
-        for (n, w) in self.rotations.iter().zip(self.weights) {
-            let t = self.point_tangent(&(n * d), &(n * v), &(n * a));
+        for (p, w) in self.weights.0.into_iter().enumerate() {
+            let n = self.rotations.point(p);
+            let t = self.point_tangent(&n.apply(dofs(d)), &n.apply(dofs(v)), &n.apply(dofs(a)));
             for (o, m) in out.iter_mut().zip([t.position, t.velocity, t.acceleration]) {
-                *o += n.transpose() * (m * w) * n;
+                n.add_congruence(&(m * w), o);
             }
         }
         out
@@ -133,15 +251,9 @@ impl ElementInertia {
 
     /// The nonlinear kinetic energy T_nl of the element, J.
     pub fn energy(&self, d: &ElementVector, v: &ElementVector) -> f64 {
-        self.rotations
-            .iter()
-            .zip(self.weights)
-            .map(|(n, w)| {
-                let (th, rate) = (n * d, n * v);
-                w * self.rho_i
-                    * (2.0 * th[1] * rate[0] * rate[2] + th[1] * th[1] * rate[2] * rate[2])
-            })
-            .sum()
+        let n = &self.rotations;
+        let t = Self::point_energy(&n.apply(dofs(d)), &n.apply(dofs(v)));
+        (t * (self.weights * self.rho_i)).sum()
     }
 }
 
@@ -150,14 +262,18 @@ mod tests {
     use super::*;
     use crate::model::Section;
 
-    fn element() -> ElementInertia {
+    fn beam() -> BeamElement {
         let string = crate::problem::Problem::load(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/problems/seed_mc2014.toml"
         ))
         .unwrap()
         .model;
-        ElementInertia::new(&BeamElement::new(1.0 / 3.0, Section::of(&string)))
+        BeamElement::new(1.0 / 3.0, Section::of(&string))
+    }
+
+    fn element() -> ElementInertia {
+        ElementInertia::new(&beam())
     }
 
     /// A smooth trajectory of the element DOFs: d(t) = Σ c_k t^k with arbitrary coefficients.
@@ -245,5 +361,89 @@ mod tests {
         }
         let g = e.gyroscopic();
         assert!((g + g.transpose()).abs().max() < 1e-15 * g.abs().max() && g.abs().max() > 0.0);
+    }
+
+    /// A tiny deterministic generator (xorshift) so the tests need no RNG crate.
+    struct Rng(u64);
+    impl Rng {
+        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+        }
+    }
+
+    /// Largest entry of |a − b| over the largest entry of |b|.
+    fn relative_error<const R: usize, const C: usize>(
+        a: &SMatrix<f64, R, C>,
+        b: &SMatrix<f64, R, C>,
+    ) -> f64 {
+        (a - b).abs().max() / b.abs().max()
+    }
+
+    #[test]
+    fn sparse_kernels_agree_with_the_dense_rotation_rows() {
+        let (b, e) = (beam(), element());
+        let (xs, ws) = gauss_legendre_4(b.length);
+        let rows = xs.map(|x| b.interpolation(x).value.fixed_rows::<3>(3).into_owned());
+        let k = 2.0 * b.section.rotary_inertia;
+        let mut rng = Rng(77);
+        for case in 0..50 {
+            // Drilling-like states: lateral 1e-2 m and 1e-2 rad, spin angle hundreds of radians,
+            // spin rate 2π ± 5 rad/s, lateral rates ~1, accelerations ~10.
+            let mut d = ElementVector::from_fn(|_, _| rng.uniform(-1e-2, 1e-2));
+            let mut v = ElementVector::from_fn(|_, _| rng.uniform(-1.0, 1.0));
+            let a = ElementVector::from_fn(|_, _| rng.uniform(-20.0, 20.0));
+            d[3] = rng.uniform(-400.0, 400.0);
+            d[9] = d[3] + rng.uniform(-0.2, 0.2);
+            v[3] = 2.0 * std::f64::consts::PI + rng.uniform(-5.0, 5.0);
+            v[9] = v[3] + rng.uniform(-0.5, 0.5);
+            let mut f_ref = ElementVector::zeros();
+            let mut t_ref = 0.0;
+            let mut tangents_ref = [ElementMatrix::zeros(); 3];
+            for (n, w) in rows.iter().zip(ws) {
+                let (th, rate, acc) = (n * d, n * v, n * a);
+                let (ty, wx, wy, wz) = (th[1], rate[0], rate[1], rate[2]);
+                let p = Vector3::new(
+                    k * (wy * wz + ty * acc[2]),
+                    -k * (wx * wz + ty * wz * wz),
+                    k * (wx * wy + ty * acc[0] + 2.0 * ty * wy * wz + ty * ty * acc[2]),
+                );
+                f_ref += n.transpose() * p * w;
+                t_ref += w * 0.5 * k * (2.0 * ty * wx * wz + ty * ty * wz * wz);
+                let t = e.point_tangent(&th.into(), &rate.into(), &acc.into());
+                for (o, m) in tangents_ref
+                    .iter_mut()
+                    .zip([t.position, t.velocity, t.acceleration])
+                {
+                    *o += n.transpose() * (m * w) * n;
+                }
+            }
+            let (f, t) = e.force_and_energy(&d, &v, &a);
+            let err = relative_error(&f, &f_ref);
+            assert!(err < 1e-12, "case {case}: force error {err:e}");
+            assert!(
+                (t - t_ref).abs() < 1e-12 * t_ref.abs(),
+                "case {case}: {t} vs {t_ref}"
+            );
+            assert_eq!(e.force(&d, &v, &a), f);
+            assert_eq!(e.energy(&d, &v), t);
+            for (m, m_ref) in e.tangents(&d, &v, &a).iter().zip(&tangents_ref) {
+                let err = relative_error(m, m_ref);
+                assert!(err < 1e-12, "case {case}: tangent error {err:e}");
+            }
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "outside the twist/bending pattern")]
+    fn rotation_rows_outside_the_sparsity_pattern_are_rejected() {
+        let b = beam();
+        let mut rows = gauss_legendre_4(b.length)
+            .0
+            .map(|x| b.interpolation(x).value.fixed_rows::<3>(3).into_owned());
+        rows[1][(1, 0)] = 1e-3; // θy depending on u1
+        SparseRotations::compress(&rows);
     }
 }

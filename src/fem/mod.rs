@@ -13,6 +13,7 @@ mod boundary;
 mod dof;
 mod element;
 mod inertia;
+mod lanes;
 mod shape;
 mod strain_energy;
 

@@ -46,15 +46,19 @@ impl DenseLu {
                 lu.swap_rows(k, p);
             }
             let pivot = lu[(k, k)];
-            for i in (k + 1)..n {
-                lu[(i, k)] /= pivot;
+            // Column-major storage: column k below the diagonal becomes the multipliers, then
+            // each later column takes an axpy with them (contiguous slices: vectorised).
+            let data = lu.as_mut_slice();
+            let (left, right) = data.split_at_mut((k + 1) * n);
+            let multipliers = &mut left[k * n + k + 1..];
+            for m in multipliers.iter_mut() {
+                *m /= pivot;
             }
-            for j in (k + 1)..n {
-                let ukj = lu[(k, j)];
+            for column in right.chunks_exact_mut(n) {
+                let ukj = column[k];
                 if ukj != 0.0 {
-                    for i in (k + 1)..n {
-                        let lik = lu[(i, k)];
-                        lu[(i, j)] -= lik * ukj;
+                    for (x, &m) in column[k + 1..].iter_mut().zip(multipliers.iter()) {
+                        *x -= m * ukj;
                     }
                 }
             }

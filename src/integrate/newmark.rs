@@ -2,6 +2,10 @@
 //! by Newton on r(t₁, q₁, q̇₁, q̈₁) = 0. The average-acceleration rule is unconditionally stable
 //! and conserves energy for linear undamped systems.
 //!
+//! Newton stops when its last correction is below the tolerance; the corrected iterate is
+//! accepted, so the system's last residual evaluation was at a state within the Newton tolerance
+//! of the accepted one (observers may use it: see `Dynamics::observe_step`).
+//!
 //! Local error estimate (Zienkiewicz & Xie 1991): e = (β − 1/6) h² (q̈₁ − q̈₀), reported as
 //! ‖W e‖ / (atol + rtol ‖W q₁‖) with per-coordinate weights W (for modal coordinates, W = ω_i makes
 //! these energy norms, so stiff modes of small amplitude but large energy are controlled too);
@@ -66,6 +70,10 @@ pub struct Newmark {
     lu: DenseLu,
     /// Whether the Jacobian must be refreshed at the next attempt.
     stale: bool,
+    /// The coefficients (cq, cv) of the factorised Jacobian, if any.
+    factored: Option<(f64, f64)>,
+    /// Jacobian factorisations so far (cost accounting).
+    pub factorizations: usize,
     /// Weights of the error norms (all 1 unless set).
     weights: DVector<f64>,
 }
@@ -93,6 +101,8 @@ impl Newmark {
             jacobian: DMatrix::zeros(n, n),
             lu: DenseLu::new(n),
             stale: true,
+            factored: None,
+            factorizations: 0,
             weights: DVector::from_element(n, 1.0),
         }
     }
@@ -129,6 +139,7 @@ impl Newmark {
                 true,
                 &mut self.jacobian,
             );
+            self.factored = None;
             if self.lu.factor(&self.jacobian).is_err() {
                 return false;
             }
@@ -156,12 +167,15 @@ impl Newmark {
                 self.stale = true;
                 return StepOutcome::Failed { iterations: it };
             }
-            // The Jacobian is rebuilt at the first iteration and whenever the system says it is
-            // no longer good (a contact opened or closed: a stale contact tangent at k ~ 1e10 N/m
-            // slows Newton badly); otherwise its factorisation is reused. The expensive strain
-            // tangent is refreshed only when convergence is slow.
+            // The Jacobian is rebuilt when the step length differs from that of the last
+            // factorisation, and whenever the system says it is no longer good (a contact opened
+            // or closed: a stale contact tangent at k ~ 1e10 N/m slows Newton badly); otherwise
+            // its factorisation is reused, also across steps of equal length (the step controller
+            // keeps h when it would change little). The expensive strain tangent is refreshed
+            // only when convergence is slow.
             let refresh = self.stale || it > s.refresh_after;
-            if it == 1 || refresh || !sys.jacobian_reusable() {
+            let new_step = self.factored != Some((cq, cv));
+            if new_step || refresh || !sys.jacobian_reusable() {
                 sys.jacobian(
                     t1,
                     &self.q1,
@@ -172,7 +186,10 @@ impl Newmark {
                     &mut self.jacobian,
                 );
                 self.stale = false;
+                self.factorizations += 1;
+                self.factored = Some((cq, cv));
                 if self.lu.factor(&self.jacobian).is_err() {
+                    self.factored = None;
                     self.stale = true;
                     return StepOutcome::Failed { iterations: it };
                 }

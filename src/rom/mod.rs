@@ -1,10 +1,12 @@
 //! Reduced-order modelling: the lowest modes of (K, M) on the constrained system (MODEL.md §7).
 
+mod blocks;
 mod eigen;
 mod modes;
 mod reduced;
 mod sparse;
 
+pub use blocks::{BlockBasis, BlockWork};
 pub use eigen::{EigenError, generalized_symmetric_eigen};
 pub use modes::{Family, ModalBasis, Mode};
 pub use reduced::ReducedModel;

@@ -5,7 +5,7 @@
 //! acceleration, but the damping acts on absolute velocities (C = c M_pipe), so C Q̇_rigid projects
 //! to a constant load; and the kinetic energy has cross terms Q̇_rigidᵀ M Φ q̇.
 
-use super::{EigenError, ModalBasis, SparseBasis};
+use super::{BlockBasis, BlockWork, EigenError, ModalBasis, SparseBasis};
 use crate::fem::{
     BoundaryConditions, Dof, ElementInertia, ElementStrains, GlobalMatrices, StrainEnergy, assemble,
 };
@@ -22,8 +22,8 @@ pub struct ReducedModel {
     pub basis: ModalBasis,
     /// Φ, 6(N+1) × n.
     pub phi: DMatrix<f64>,
-    /// Φᵀ, n × 6(N+1): the rows of Φ as contiguous columns (per-node access without copies).
-    pub phi_t: DMatrix<f64>,
+    /// Φ as dense per-family blocks: Φq and Φᵀf of the residual.
+    pub blocks: BlockBasis,
     /// Φ by its non-zeros (each mode lives on its family's DOFs only).
     pub sparse: SparseBasis,
     /// Λ = diag(ω²) = Φᵀ K Φ, 1/s².
@@ -58,6 +58,7 @@ impl ReducedModel {
         let bc = BoundaryConditions::drillstring(elements);
         let basis = ModalBasis::of(&global, &bc, modes, Par::Seq)?;
         let phi = to_na(&basis.shapes);
+        let families: Vec<_> = basis.modes.iter().map(|m| m.family).collect();
         let mass = to_na(&global.mass);
         let pipe_mass = to_na(&global.pipe_mass);
         let omega2 = DVector::from_iterator(modes, basis.modes.iter().map(|m| m.omega * m.omega));
@@ -91,7 +92,7 @@ impl ReducedModel {
             global,
             bc,
             basis,
-            phi_t: phi.transpose(),
+            blocks: BlockBasis::new(&phi, &families),
             sparse: SparseBasis::new(&phi),
             phi,
             omega2,
@@ -125,14 +126,15 @@ impl ReducedModel {
 
     /// Φᵀ K_t(Φq) Φ: the projected tangent of the internal force at the elastic state `q_full`
     /// (Φq on the full mesh), added into `out` (n × n). `scratch` (full DOF × n) receives K_t Φ,
-    /// built element by element from the non-zeros of Φ only; the symmetric product Φᵀ (K_t Φ)
-    /// then projects it (upper triangle, mirrored). Nothing is allocated. `exact` selects the
+    /// built element by element from the non-zeros of Φ only; Φᵀ (K_t Φ) then projects it with
+    /// one dense product per family block of Φ. Nothing is allocated. `exact` selects the
     /// automatic-differentiation tangent instead of the fast finite-difference one.
     pub fn add_strain_tangent(
         &self,
         q_full: &DVector<f64>,
         out: &mut DMatrix<f64>,
         scratch: &mut DMatrix<f64>,
+        work: &mut BlockWork,
         exact: bool,
     ) {
         scratch.fill(0.0);
@@ -159,17 +161,7 @@ impl ReducedModel {
                 }
             }
         }
-        let data = scratch.as_slice();
-        for j in 0..self.size() {
-            let y = &data[j * rows..(j + 1) * rows];
-            for i in 0..=j {
-                let v = self.sparse.dot_mode(i, y);
-                out[(i, j)] += v;
-                if i != j {
-                    out[(j, i)] += v;
-                }
-            }
-        }
+        self.blocks.add_projected_columns(scratch, out, work);
     }
 }
 
@@ -188,7 +180,14 @@ mod tests {
         // Tangent at rest = Φᵀ K Φ = Λ.
         let mut kt = DMatrix::zeros(20, 20);
         let mut scratch = DMatrix::zeros(r.phi.nrows(), 20);
-        r.add_strain_tangent(&DVector::zeros(r.phi.nrows()), &mut kt, &mut scratch, true);
+        let mut work = r.blocks.workspace();
+        r.add_strain_tangent(
+            &DVector::zeros(r.phi.nrows()),
+            &mut kt,
+            &mut scratch,
+            &mut work,
+            true,
+        );
         for i in 0..20 {
             for j in 0..20 {
                 let expected = if i == j { r.omega2[i] } else { 0.0 };
