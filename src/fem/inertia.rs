@@ -260,16 +260,11 @@ impl ElementInertia {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fem::test_support::{Rng, relative_error, seed_string};
     use crate::model::Section;
 
     fn beam() -> BeamElement {
-        let string = crate::problem::Problem::load(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/problems/seed_mc2014.toml"
-        ))
-        .unwrap()
-        .model;
-        BeamElement::new(1.0 / 3.0, Section::of(&string))
+        BeamElement::new(1.0 / 3.0, Section::of(&seed_string()))
     }
 
     fn element() -> ElementInertia {
@@ -361,25 +356,6 @@ mod tests {
         }
         let g = e.gyroscopic();
         assert!((g + g.transpose()).abs().max() < 1e-15 * g.abs().max() && g.abs().max() > 0.0);
-    }
-
-    /// A tiny deterministic generator (xorshift) so the tests need no RNG crate.
-    struct Rng(u64);
-    impl Rng {
-        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-        }
-    }
-
-    /// Largest entry of |a − b| over the largest entry of |b|.
-    fn relative_error<const R: usize, const C: usize>(
-        a: &SMatrix<f64, R, C>,
-        b: &SMatrix<f64, R, C>,
-    ) -> f64 {
-        (a - b).abs().max() / b.abs().max()
     }
 
     #[test]

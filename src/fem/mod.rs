@@ -16,6 +16,8 @@ mod inertia;
 mod lanes;
 mod shape;
 mod strain_energy;
+#[cfg(test)]
+mod test_support;
 
 pub use assembly::{GlobalMatrices, assemble};
 pub use boundary::BoundaryConditions;

@@ -469,28 +469,9 @@ impl ElementStrains {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fem::test_support::{Rng, relative_error, seed_string};
     use crate::fem::{BeamElement, ElementVector};
     use crate::model::Section;
-
-    /// A tiny deterministic generator (xorshift) so the tests need no RNG crate.
-    struct Rng(u64);
-    impl Rng {
-        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-        }
-    }
-
-    fn seed_string() -> Drillstring {
-        crate::problem::Problem::load(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/problems/seed_mc2014.toml"
-        ))
-        .unwrap()
-        .model
-    }
 
     /// Fields (u, v, w, θx, θy, θz) at a point and their x-derivatives.
     #[derive(Clone, Copy)]
@@ -734,14 +715,6 @@ mod tests {
             g.set_row(7, &n.value.row(5));
             (g, ws[p])
         })
-    }
-
-    /// Largest entry of |a − b| over the largest entry of |b|.
-    fn relative_error<const R: usize, const C: usize>(
-        a: &SMatrix<f64, R, C>,
-        b: &SMatrix<f64, R, C>,
-    ) -> f64 {
-        (a - b).abs().max() / b.abs().max()
     }
 
     #[test]

@@ -82,6 +82,19 @@ impl OptimizeError {
         }
     }
 
+    /// Checks that the black box has the dimension `expected` of the feasible set.
+    pub(crate) fn check_dim(found: usize, expected: usize) -> Result<(), Self> {
+        if found == expected {
+            Ok(())
+        } else {
+            Err(Self::dimension(
+                "black box dimension vs feasible set",
+                expected,
+                found,
+            ))
+        }
+    }
+
     /// Checks that every entry of `v` is finite.
     pub(crate) fn check_finite(what: &str, v: &[f64]) -> Result<(), Self> {
         match v.iter().position(|x| !x.is_finite()) {

@@ -18,13 +18,7 @@ pub fn grid_search<B: BlackBox + ?Sized>(
     per_dim: usize,
     constraint_tol: f64,
 ) -> Result<OptimizeResult, OptimizeError> {
-    if bb.dim() != set.dim() {
-        return Err(OptimizeError::dimension(
-            "black box dimension vs feasible set",
-            set.dim(),
-            bb.dim(),
-        ));
-    }
+    OptimizeError::check_dim(bb.dim(), set.dim())?;
     if per_dim == 0 {
         return Err(OptimizeError::InvalidOption {
             name: "per_dim",

@@ -285,15 +285,12 @@ pub fn minimize_nelder_mead<B: BlackBox + ?Sized>(
     callback: Option<IterateCallback>,
 ) -> Result<OptimizeResult, OptimizeError> {
     opts.validate()?;
-    if bb.dim() != set.dim() || x0.len() != set.dim() {
+    OptimizeError::check_dim(bb.dim(), set.dim())?;
+    if x0.len() != set.dim() {
         return Err(OptimizeError::dimension(
-            "black box / start point vs feasible set",
+            "start point vs feasible set",
             set.dim(),
-            if bb.dim() != set.dim() {
-                bb.dim()
-            } else {
-                x0.len()
-            },
+            x0.len(),
         ));
     }
     OptimizeError::check_finite("start point x0", x0)?;

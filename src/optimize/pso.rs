@@ -218,13 +218,7 @@ pub fn minimize_particle_swarm<B: BlackBox + ?Sized>(
     opts: &SwarmOptions,
     callback: Option<IterateCallback>,
 ) -> Result<OptimizeResult, OptimizeError> {
-    if bb.dim() != set.dim() {
-        return Err(OptimizeError::dimension(
-            "black box dimension vs feasible set",
-            set.dim(),
-            bb.dim(),
-        ));
-    }
+    OptimizeError::check_dim(bb.dim(), set.dim())?;
     if opts.particles < 2 || opts.max_evaluations == 0 {
         return Err(OptimizeError::InvalidOption {
             name: "particles / max_evaluations",

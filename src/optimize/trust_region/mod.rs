@@ -679,13 +679,7 @@ pub fn minimize_trust_region<B: BlackBox + ?Sized>(
     opts: &TrustRegionOptions,
     callback: Option<IterateCallback>,
 ) -> Result<OptimizeResult, OptimizeError> {
-    if bb.dim() != set.dim() {
-        return Err(OptimizeError::dimension(
-            "black box dimension vs feasible set",
-            set.dim(),
-            bb.dim(),
-        ));
-    }
+    OptimizeError::check_dim(bb.dim(), set.dim())?;
     let solver = TrustRegion::new(set.clone(), x0, bb.n_constraints(), opts.clone())?;
     let log: PathLog = Arc::new(Mutex::new(Vec::new()));
     let observer = PathObserver::new(Arc::clone(&log), callback);
