@@ -195,3 +195,50 @@ fn jacobian_matches_finite_differences_of_the_residual() {
         assert!(err < 1e-3, "{label}: relative error {err:e}");
     }
 }
+
+/// A residual evaluated through the integrator's announced attempt (Φq̈ expanded once, Φq and Φq̇
+/// from the attempt's base) equals the one from expanding q, q̇, q̈; and a state that is not of
+/// the announced form is evaluated in full, not through the base.
+#[test]
+fn residual_on_an_announced_attempt_equals_the_full_evaluation() {
+    let p = common::seed();
+    let model = ReducedModel::new(&p.model, 30, 24).unwrap();
+    let n = model.size();
+    let (q0, _) = drillopt::sim::static_equilibrium(&model).unwrap();
+    let v0 = DVector::from_fn(n, |i, _| 1e-3 * ((i as f64) * 0.7).sin());
+    let a = DVector::from_fn(n, |i, _| 0.3 * ((i as f64) * 1.3).cos());
+    let (cq, cv) = (0.25 * 1e-8, 0.5 * 1e-4);
+    let state = |a: &DVector<f64>| {
+        let q = DVector::from_fn(n, |i, _| q0[i] + cq * a[i]);
+        let v = DVector::from_fn(n, |i, _| v0[i] + cv * a[i]);
+        (q, v)
+    };
+    let full = |q: &DVector<f64>, v: &DVector<f64>, a: &DVector<f64>| {
+        let mut sys = Dynamics::new(&model, p.operating_point, Effects::ALL);
+        let mut r = DVector::zeros(n);
+        sys.residual(0.0, q, v, a, &mut r);
+        r
+    };
+    let mut sys = Dynamics::new(&model, p.operating_point, Effects::ALL);
+    sys.begin_attempt(&q0, &v0, cq, cv);
+    let mut r = DVector::zeros(n);
+    for k in 0..3 {
+        let a_k = &a * (1.0 + k as f64);
+        let (q, v) = state(&a_k);
+        sys.residual(0.0, &q, &v, &a_k, &mut r);
+        let reference = full(&q, &v, &a_k);
+        let error = (&r - &reference).norm() / reference.norm();
+        // Round-off only (the wall stiffness, 1e10 N/m, amplifies the last bits of Φq).
+        assert!(error < 1e-10, "attempt path differs by {error:e}");
+    }
+    assert!(
+        sys.contacts.iter().any(|c| c.active),
+        "the state must touch the wall"
+    );
+    // Off the announced form (q shifted): the full evaluation, not the base.
+    let (mut q, v) = state(&a);
+    q[0] += 1e-4;
+    sys.residual(0.0, &q, &v, &a, &mut r);
+    let reference = full(&q, &v, &a);
+    assert!((&r - &reference).norm() <= 1e-14 * reference.norm());
+}

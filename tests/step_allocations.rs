@@ -45,6 +45,7 @@ fn newmark_steps_of_the_drillstring_allocate_nothing() {
     // exercised too.
     let settings = NewmarkSettings {
         refresh_after: 0,
+        early_reject: f64::INFINITY,
         ..Default::default()
     };
     let mut nm = Newmark::new(settings, 0.0, q, DVector::zeros(n), DVector::zeros(n));

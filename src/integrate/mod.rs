@@ -44,6 +44,12 @@ pub trait ImplicitSystem {
         out: &mut DMatrix<f64>,
     );
 
+    /// Called by Newmark before the residual evaluations of a step attempt: they will be at
+    /// q = q_p + c_q q̈ and q̇ = v_p + c_v q̈, computed exactly so (bitwise: `q_p[i] + c_q * a[i]`),
+    /// for varying q̈. A system may use this to evaluate faster; it must still check that the
+    /// state it gets is of that form (the default ignores the announcement).
+    fn begin_attempt(&mut self, _qp: &DVector<f64>, _vp: &DVector<f64>, _cq: f64, _cv: f64) {}
+
     /// Whether the last Jacobian is still good for the state of the last residual evaluation
     /// (e.g. no contact opened or closed since it was built), so that Newton may reuse its
     /// factorisation. The default, `false`, rebuilds it at every iteration.

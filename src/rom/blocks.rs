@@ -16,6 +16,65 @@ struct Block {
     rows: Vec<usize>,
     modes: Vec<usize>,
     values: DMatrix<f64>,
+    /// The block for [`Block::expand`] and its transpose for [`Block::project`], column-major
+    /// with the leading dimension padded with zeros to a multiple of [`PAD`].
+    padded: Padded,
+    padded_t: Padded,
+}
+
+/// Row padding of the product kernels: their row chunks are 32, 16, 8 or 4 long.
+const PAD: usize = 4;
+
+/// A column-major matrix whose rows are padded with zeros to a multiple of [`PAD`].
+#[derive(Debug, Clone)]
+struct Padded {
+    values: Vec<f64>,
+    ld: usize,
+    cols: usize,
+}
+
+impl Padded {
+    fn new(a: &DMatrix<f64>) -> Self {
+        let ld = a.nrows().div_ceil(PAD) * PAD;
+        let mut values = vec![0.0; ld * a.ncols()];
+        for (j, column) in a.column_iter().enumerate() {
+            values[j * ld..j * ld + a.nrows()].copy_from_slice(column.as_slice());
+        }
+        Padded {
+            values,
+            ld,
+            cols: a.ncols(),
+        }
+    }
+
+    /// y = A x (y: the padded rows). Rows in chunks held in registers over all columns, so each
+    /// coefficient is loaded once and y stored once (nalgebra's gemv does one axpy per column).
+    fn product(&self, x: &[f64], y: &mut [f64]) {
+        debug_assert!(x.len() == self.cols && y.len() == self.ld);
+        let mut start = 0;
+        while start < self.ld {
+            start += match self.ld - start {
+                32.. => self.chunk::<32>(start, x, y),
+                16.. => self.chunk::<16>(start, x, y),
+                8.. => self.chunk::<8>(start, x, y),
+                _ => self.chunk::<4>(start, x, y),
+            };
+        }
+    }
+
+    /// Rows start..start + R of A x; returns R.
+    #[inline(always)]
+    fn chunk<const R: usize>(&self, start: usize, x: &[f64], y: &mut [f64]) -> usize {
+        let mut acc = [0.0; R];
+        for (column, &xj) in self.values.chunks_exact(self.ld).zip(x) {
+            let column: &[f64; R] = column[start..start + R].try_into().expect("R rows");
+            for (a, &c) in acc.iter_mut().zip(column) {
+                *a = c.mul_add(xj, *a);
+            }
+        }
+        y[start..start + R].copy_from_slice(&acc);
+        R
+    }
 }
 
 /// Φ by family blocks.
@@ -29,8 +88,8 @@ pub struct BlockBasis {
 /// no allocation per product): per block, the gathered modal coordinates and the block's rows.
 #[derive(Debug, Clone)]
 pub struct BlockWork {
-    modal: Vec<DVector<f64>>,
-    rows: Vec<DVector<f64>>,
+    modal: Vec<Vec<f64>>,
+    rows: Vec<Vec<f64>>,
     /// Per block: its rows of a full-DOF × n matrix, and their projection (modes × n).
     gathered: Vec<DMatrix<f64>>,
     projected: Vec<DMatrix<f64>>,
@@ -55,6 +114,8 @@ impl BlockBasis {
             blocks.push(Block {
                 rows,
                 modes,
+                padded: Padded::new(&values),
+                padded_t: Padded::new(&values.transpose()),
                 values,
             });
         }
@@ -70,13 +131,9 @@ impl BlockBasis {
             modal: self
                 .blocks
                 .iter()
-                .map(|b| DVector::zeros(b.modes.len()))
+                .map(|b| vec![0.0; b.padded_t.ld])
                 .collect(),
-            rows: self
-                .blocks
-                .iter()
-                .map(|b| DVector::zeros(b.rows.len()))
-                .collect(),
+            rows: self.blocks.iter().map(|b| vec![0.0; b.padded.ld]).collect(),
             gathered: self
                 .blocks
                 .iter()
@@ -108,7 +165,7 @@ impl BlockBasis {
             for (k, &j) in b.modes.iter().enumerate() {
                 xm[k] = x[j];
             }
-            yr.gemv(1.0, &b.values, xm, 0.0);
+            b.padded.product(&xm[..b.modes.len()], yr);
             for (k, &i) in b.rows.iter().enumerate() {
                 y[i] += yr[k];
             }
@@ -123,7 +180,7 @@ impl BlockBasis {
             for (k, &i) in b.rows.iter().enumerate() {
                 fr[k] = f[i];
             }
-            om.gemv_tr(1.0, &b.values, fr, 0.0);
+            b.padded_t.product(&fr[..b.rows.len()], om);
             for (k, &j) in b.modes.iter().enumerate() {
                 out[j] += om[k];
             }
@@ -196,5 +253,33 @@ mod tests {
         blocks.add_projected_columns(&y, &mut out, &mut work);
         let expected = phi.transpose() * &y + DMatrix::from_element(4, 4, 1.0);
         assert!((&out - expected).norm() < 1e-14);
+    }
+
+    #[test]
+    fn padded_kernels_cover_every_chunk_length() {
+        // Blocks of 1 to 75 rows and 1 to 37 modes: every chunk length (32, 16, 8, 4) and padding.
+        for (rows, modes) in [(1, 1), (3, 2), (9, 5), (30, 7), (75, 37), (64, 33)] {
+            let phi = DMatrix::from_fn(rows, modes, |i, j| {
+                let x = ((i * 31 + j * 17) as f64 * 0.37).sin();
+                if x.abs() < 0.2 { 0.0 } else { x }
+            });
+            let families: Vec<Family> = (0..modes).map(|j| Family::ALL[j % 3]).collect();
+            let blocks = BlockBasis::new(&phi, &families);
+            let mut work = blocks.workspace();
+            let x = DVector::from_fn(modes, |j, _| (j as f64 * 0.9 + 0.2).cos());
+            let f = DVector::from_fn(rows, |i, _| (i as f64 * 0.4 - 1.0).sin());
+            let (mut y, mut p) = (DVector::from_element(rows, 9.0), DVector::zeros(modes));
+            blocks.expand(&x, &mut y, &mut work);
+            blocks.project(&f, &mut p, &mut work);
+            let (ye, pe) = (&phi * &x, phi.transpose() * &f);
+            assert!(
+                (&y - &ye).norm() < 1e-13 * (1.0 + ye.norm()),
+                "{rows}x{modes}"
+            );
+            assert!(
+                (&p - &pe).norm() < 1e-13 * (1.0 + pe.norm()),
+                "{rows}x{modes}"
+            );
+        }
     }
 }

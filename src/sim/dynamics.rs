@@ -68,8 +68,8 @@ pub struct Observation {
 /// The drillstring system at one operating point, with its work buffers.
 pub struct Dynamics<'m> {
     pub model: &'m ReducedModel,
-    pub op: OperatingPoint,
-    pub effects: Effects,
+    op: OperatingPoint,
+    effects: Effects,
     gap: f64,
     q_full: DVector<f64>,
     v_full: DVector<f64>,
@@ -77,6 +77,13 @@ pub struct Dynamics<'m> {
     f_full: DVector<f64>,
     /// Φq for the tangent refresh (kept apart so that the vectors above always belong together).
     q_tangent: DVector<f64>,
+    /// The step attempt announced by the integrator: q = q_p + c_q q̈, q̇ = v_p + c_v q̈ (modal),
+    /// with Φq_p and Φq_p + Q̇_rigid on the full mesh, so that a residual expands q̈ only.
+    attempt: Option<(f64, f64)>,
+    attempt_modal: [DVector<f64>; 2],
+    attempt_full: [DVector<f64>; 2],
+    /// Dense rows of Φ for a contact node's v and w DOFs (Jacobian work vectors).
+    contact_rows: [DVector<f64>; 2],
     blocks: BlockWork,
     /// The modal state (q, q̇, q̈) of the full-mesh vectors and forces above, and the element
     /// energies there: strain energy U and nonlinear kinetic energy T_nl, J.
@@ -84,6 +91,8 @@ pub struct Dynamics<'m> {
     element_energies: (f64, f64),
     /// Cached Φᵀ K_t Φ (refreshed on request).
     strain_tangent: DMatrix<f64>,
+    /// ∂r/∂q̇ of the linear terms: D + Ω G (D only with damping on).
+    damping_gyroscopic: DMatrix<f64>,
     scratch: DMatrix<f64>,
     /// Contact state per node (index = node), from the last residual evaluation.
     pub contacts: Vec<NodeContact>,
@@ -109,6 +118,10 @@ impl<'m> Dynamics<'m> {
             a_full: DVector::zeros(ndof),
             f_full: DVector::zeros(ndof),
             q_tangent: DVector::zeros(ndof),
+            attempt: None,
+            attempt_modal: [DVector::zeros(n), DVector::zeros(n)],
+            attempt_full: [DVector::zeros(ndof), DVector::zeros(ndof)],
+            contact_rows: [DVector::zeros(n), DVector::zeros(n)],
             blocks: model.blocks.workspace(),
             evaluated: [
                 DVector::from_element(n, f64::NAN),
@@ -117,6 +130,11 @@ impl<'m> Dynamics<'m> {
             ],
             element_energies: (0.0, 0.0),
             strain_tangent: DMatrix::from_diagonal(&model.omega2),
+            damping_gyroscopic: if effects.damping {
+                &model.damping + &model.gyroscopic * op.omega
+            } else {
+                &model.gyroscopic * op.omega
+            },
             scratch: DMatrix::zeros(ndof, n),
             contacts: vec![NodeContact::default(); model.nodes()],
             bit: BitLoad::default(),
@@ -134,11 +152,36 @@ impl<'m> Dynamics<'m> {
         if eq == q && ev == v && ea == a {
             return;
         }
-        self.expand(q, v, a);
+        if self.on_attempt(q, v, a) {
+            // Φq = Φq_p + c_q Φq̈ and Φq̇ = Φv_p + c_v Φq̈: one product with Φ instead of three.
+            let (cq, cv) = self.attempt.expect("checked by on_attempt");
+            self.model
+                .blocks
+                .expand(a, &mut self.a_full, &mut self.blocks);
+            let [qp, vp] = &self.attempt_full;
+            let base = qp.iter().zip(vp.iter()).zip(self.a_full.iter());
+            let full = self.q_full.iter_mut().zip(self.v_full.iter_mut());
+            for ((q, v), ((&qp, &vp), &a)) in full.zip(base) {
+                *q = qp + cq * a;
+                *v = vp + cv * a;
+            }
+        } else {
+            self.expand(q, v, a);
+        }
         self.full_forces();
         for (e, x) in self.evaluated.iter_mut().zip([q, v, a]) {
             e.copy_from(x);
         }
+    }
+
+    /// Whether (q, q̇) = (q_p + c_q q̈, v_p + c_v q̈) of the announced attempt, exactly as the
+    /// integrator forms them (bitwise), so that the full-mesh attempt base applies.
+    fn on_attempt(&self, q: &DVector<f64>, v: &DVector<f64>, a: &DVector<f64>) -> bool {
+        let Some((cq, cv)) = self.attempt else {
+            return false;
+        };
+        let [qp, vp] = &self.attempt_modal;
+        (0..a.len()).all(|i| q[i] == qp[i] + cq * a[i] && v[i] == vp[i] + cv * a[i])
     }
 
     /// Full-mesh elastic displacement, absolute velocity and acceleration from (q, q̇, q̈).
@@ -155,7 +198,7 @@ impl<'m> Dynamics<'m> {
     }
 
     fn element_state(x: &DVector<f64>, e: usize) -> ElementVector {
-        ElementVector::from_fn(|i, _| x[6 * e + i])
+        ElementVector::from_column_slice(&x.as_slice()[6 * e..6 * e + 12])
     }
 
     /// f_full = f_int + f_gyro − F_wall − F_bit on the full mesh (expand first).
@@ -176,8 +219,11 @@ impl<'m> Dynamics<'m> {
             strain += u;
             kinetic += t;
             let f = f_strain + f_inertia;
-            for i in 0..12 {
-                self.f_full[6 * e + i] += f[i];
+            for (out, x) in self.f_full.as_mut_slice()[6 * e..6 * e + 12]
+                .iter_mut()
+                .zip(&f)
+            {
+                *out += x;
             }
         }
         self.element_energies = (strain, kinetic);
@@ -196,10 +242,16 @@ impl<'m> Dynamics<'m> {
             } else {
                 NodeContact::default()
             };
-            self.f_full[iv] -= c.force[0];
-            self.f_full[iw] -= c.force[1];
-            self.f_full[it] -= c.torque;
-            self.contacts[node] = c;
+            let stored = &mut self.contacts[node];
+            if c.active || stored.active {
+                self.f_full[iv] -= c.force[0];
+                self.f_full[iw] -= c.force[1];
+                self.f_full[it] -= c.torque;
+                *stored = c;
+            } else {
+                // Free before and now: only the indentation changes (no 130-byte store per node).
+                stored.indentation = c.indentation;
+            }
         }
         let bit_node = m.elements();
         let (iu, it) = (Dof::U.at(bit_node), Dof::ThetaX.at(bit_node));
@@ -289,7 +341,8 @@ impl<'m> Dynamics<'m> {
         };
         let mut wall_elastic = 0.0;
         for (node, c) in self.contacts.iter().enumerate() {
-            let r = self.q_full[Dof::V.at(node)].hypot(self.q_full[Dof::W.at(node)]);
+            let (v, w) = (self.q_full[Dof::V.at(node)], self.q_full[Dof::W.at(node)]);
+            let r = (v * v + w * w).sqrt();
             obs.max_radial_over_gap = obs.max_radial_over_gap.max(r / self.gap);
             if c.active {
                 obs.nodes_in_contact += 1;
@@ -333,6 +386,20 @@ impl<'m> Dynamics<'m> {
 impl ImplicitSystem for Dynamics<'_> {
     fn size(&self) -> usize {
         self.model.size()
+    }
+
+    fn begin_attempt(&mut self, qp: &DVector<f64>, vp: &DVector<f64>, cq: f64, cv: f64) {
+        let (phi, work) = (&self.model.blocks, &mut self.blocks);
+        let [q_full, v_full] = &mut self.attempt_full;
+        phi.expand(qp, q_full, work);
+        phi.expand(vp, v_full, work);
+        for node in 0..self.model.nodes() {
+            v_full[Dof::U.at(node)] += self.op.v0;
+            v_full[Dof::ThetaX.at(node)] += self.op.omega;
+        }
+        self.attempt_modal[0].copy_from(qp);
+        self.attempt_modal[1].copy_from(vp);
+        self.attempt = Some((cq, cv));
     }
 
     fn jacobian_reusable(&self) -> bool {
@@ -386,28 +453,48 @@ impl ImplicitSystem for Dynamics<'_> {
                 false,
             );
         }
-        out.copy_from(&self.strain_tangent);
-        *out *= c.cq;
+        // cq K_t + cv (D + Ω G) + ca I, in one pass over the (column-major) storage.
+        let terms = self
+            .strain_tangent
+            .as_slice()
+            .iter()
+            .zip(self.damping_gyroscopic.as_slice());
+        for (x, (&k, &d)) in out.as_mut_slice().iter_mut().zip(terms) {
+            *x = c.cq * k + c.cv * d;
+        }
         for i in 0..out.nrows() {
             out[(i, i)] += c.ca;
         }
-        if self.effects.damping {
-            out.zip_apply(&m.damping, |x, y| *x += c.cv * y);
-        }
-        let g = c.cv * self.op.omega;
-        out.zip_apply(&m.gyroscopic, |x, y| *x += g * y);
-        // Wall contact at the nodes touching, from the last residual evaluation: −∂F/∂(q, q̇).
+        // Wall contact at the nodes touching, from the last residual evaluation: −∂F/∂(q, q̇),
+        // a rank-two term P W Pᵀ per node with P = [φ(v), φ(w)] (the rows of Φ for the node's
+        // lateral DOFs), added densely column by column (vectorised).
         let phi = &m.sparse;
         for (node, k) in self.contacts.iter().enumerate() {
             if !k.active {
                 continue;
             }
-            let rows = [Dof::V.at(node), Dof::W.at(node)];
-            for a_ in 0..2 {
-                for b in 0..2 {
-                    let w = -(c.cq * k.stiffness[a_][b] + c.cv * k.damping[a_][b]);
-                    if w != 0.0 {
-                        phi.add_dof_outer(w, rows[a_], rows[b], out);
+            let w = std::array::from_fn::<_, 2, _>(|a_| {
+                std::array::from_fn::<_, 2, _>(|b| {
+                    -(c.cq * k.stiffness[a_][b] + c.cv * k.damping[a_][b])
+                })
+            });
+            let [pv, pw] = &mut self.contact_rows;
+            for (p, dof) in [(&mut *pv, Dof::V.at(node)), (&mut *pw, Dof::W.at(node))] {
+                p.fill(0.0);
+                let (modes, values) = phi.dof(dof);
+                for (&j, &x) in modes.iter().zip(values) {
+                    p[j] = x;
+                }
+            }
+            let (pv, pw) = (pv.as_slice(), pw.as_slice());
+            let rows = out.nrows();
+            for (j, column) in out.as_mut_slice().chunks_exact_mut(rows).enumerate() {
+                // Row j of W Pᵀ.
+                let b0 = w[0][0] * pv[j] + w[0][1] * pw[j];
+                let b1 = w[1][0] * pv[j] + w[1][1] * pw[j];
+                if b0 != 0.0 || b1 != 0.0 {
+                    for ((x, &p0), &p1) in column.iter_mut().zip(pv).zip(pw) {
+                        *x += p0 * b0 + p1 * b1;
                     }
                 }
             }

@@ -391,6 +391,11 @@ pub fn simulate(
                 stats.rejected_steps += 1;
                 h *= controller.rejected(err);
             }
+            StepOutcome::TooLarge { error: err } => {
+                stats.newton_iterations += 1;
+                stats.rejected_steps += 1;
+                h *= controller.rejected(err);
+            }
             StepOutcome::Failed { iterations } => {
                 stats.newton_iterations += iterations;
                 stats.rejected_steps += 1;
