@@ -162,13 +162,7 @@ impl BlockBasis {
         debug_assert_eq!(y.len(), self.dofs);
         y.fill(0.0);
         for ((b, xm), yr) in self.blocks.iter().zip(&mut work.modal).zip(&mut work.rows) {
-            for (k, &j) in b.modes.iter().enumerate() {
-                xm[k] = x[j];
-            }
-            b.padded.product(&xm[..b.modes.len()], yr);
-            for (k, &i) in b.rows.iter().enumerate() {
-                y[i] += yr[k];
-            }
+            block_product(&b.padded, (x, &b.modes, xm), (yr, &b.rows, y));
         }
     }
 
@@ -177,14 +171,24 @@ impl BlockBasis {
         debug_assert_eq!(f.len(), self.dofs);
         out.fill(0.0);
         for ((b, om), fr) in self.blocks.iter().zip(&mut work.modal).zip(&mut work.rows) {
-            for (k, &i) in b.rows.iter().enumerate() {
-                fr[k] = f[i];
-            }
-            b.padded_t.product(&fr[..b.rows.len()], om);
-            for (k, &j) in b.modes.iter().enumerate() {
-                out[j] += om[k];
-            }
+            block_product(&b.padded_t, (f, &b.rows, fr), (om, &b.modes, out));
         }
+    }
+}
+
+/// y[to] += A x[from]: gather x at `from` into the work vector `xs`, multiply into the work
+/// vector `ys`, scatter-add at `to` (one block of Φ or of Φᵀ).
+fn block_product(
+    a: &Padded,
+    (x, from, xs): (&DVector<f64>, &[usize], &mut [f64]),
+    (ys, to, y): (&mut [f64], &[usize], &mut DVector<f64>),
+) {
+    for (g, &j) in xs.iter_mut().zip(from) {
+        *g = x[j];
+    }
+    a.product(&xs[..from.len()], ys);
+    for (&v, &i) in ys.iter().zip(to) {
+        y[i] += v;
     }
 }
 

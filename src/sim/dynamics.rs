@@ -191,10 +191,7 @@ impl<'m> Dynamics<'m> {
         phi.expand(q, &mut self.q_full, work);
         phi.expand(v, &mut self.v_full, work);
         phi.expand(a, &mut self.a_full, work);
-        for node in 0..self.model.nodes() {
-            self.v_full[Dof::U.at(node)] += self.op.v0;
-            self.v_full[Dof::ThetaX.at(node)] += self.op.omega;
-        }
+        add_rigid_velocity(&mut self.v_full, self.op);
     }
 
     fn element_state(x: &DVector<f64>, e: usize) -> ElementVector {
@@ -383,6 +380,14 @@ impl<'m> Dynamics<'m> {
     }
 }
 
+/// Adds the rigid velocity field (V0 on every u, Ω on every θx) to a full-mesh elastic velocity.
+fn add_rigid_velocity(v_full: &mut DVector<f64>, op: OperatingPoint) {
+    for node in 0..v_full.len() / 6 {
+        v_full[Dof::U.at(node)] += op.v0;
+        v_full[Dof::ThetaX.at(node)] += op.omega;
+    }
+}
+
 impl ImplicitSystem for Dynamics<'_> {
     fn size(&self) -> usize {
         self.model.size()
@@ -393,10 +398,7 @@ impl ImplicitSystem for Dynamics<'_> {
         let [q_full, v_full] = &mut self.attempt_full;
         phi.expand(qp, q_full, work);
         phi.expand(vp, v_full, work);
-        for node in 0..self.model.nodes() {
-            v_full[Dof::U.at(node)] += self.op.v0;
-            v_full[Dof::ThetaX.at(node)] += self.op.omega;
-        }
+        add_rigid_velocity(v_full, self.op);
         self.attempt_modal[0].copy_from(qp);
         self.attempt_modal[1].copy_from(vp);
         self.attempt = Some((cq, cv));
