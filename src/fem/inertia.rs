@@ -14,7 +14,7 @@
 //! As for the strains, the rows (θx, θy, θz) of the interpolation are kept by their non-zeros and
 //! the four Gauss points are evaluated together, one per lane ([`Lanes`]).
 
-use super::lanes::{Lanes, Real};
+use super::lanes::{Lanes, Real, element_sums};
 use super::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector, gauss_legendre_4};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
@@ -220,7 +220,7 @@ impl ElementInertia {
         let w = self.weights;
         let f = n.transpose_product(&[p[0] * w, p[1] * w, p[2] * w]);
         let t = Self::point_energy(&th, &rate) * (w * self.rho_i);
-        (ElementVector::from_fn(|j, _| f[j].sum()), t.sum())
+        (element_sums(&f), t.sum())
     }
 
     /// ∂force/∂d, ∂force/∂v, ∂force/∂a.

@@ -8,6 +8,7 @@
 //! row where any of its modes is non-zero, so the products are exact whatever the grouping.
 
 use super::Family;
+use super::padded::Padded;
 use nalgebra::{DMatrix, DVector};
 
 /// One group of modes: Φ restricted to `rows` × `modes`, stored densely (column-major).
@@ -16,71 +17,32 @@ struct Block {
     rows: Vec<usize>,
     modes: Vec<usize>,
     values: DMatrix<f64>,
-    /// The block for [`Block::expand`] and its transpose for [`Block::project`], column-major
-    /// with the leading dimension padded with zeros to a multiple of [`PAD`].
+    /// The block for [`BlockBasis::expand`] and its transpose for [`BlockBasis::project`],
+    /// column-major with the leading dimension padded with zeros.
     padded: Padded,
     padded_t: Padded,
 }
 
-/// Row padding of the product kernels: their row chunks are 32, 16, 8 or 4 long.
-const PAD: usize = 4;
-
-/// A column-major matrix whose rows are padded with zeros to a multiple of [`PAD`].
+/// How the products visit the blocks: one at a time, or two that are the same matrix up to the
+/// signs of rows and columns (the bending planes x–y and x–z: v ↔ w with θz ↔ −θy, same
+/// frequencies), multiplied together through the first one's storage.
 #[derive(Debug, Clone)]
-struct Padded {
-    values: Vec<f64>,
-    ld: usize,
-    cols: usize,
-}
-
-impl Padded {
-    fn new(a: &DMatrix<f64>) -> Self {
-        let ld = a.nrows().div_ceil(PAD) * PAD;
-        let mut values = vec![0.0; ld * a.ncols()];
-        for (j, column) in a.column_iter().enumerate() {
-            values[j * ld..j * ld + a.nrows()].copy_from_slice(column.as_slice());
-        }
-        Padded {
-            values,
-            ld,
-            cols: a.ncols(),
-        }
-    }
-
-    /// y = A x (y: the padded rows). Rows in chunks held in registers over all columns, so each
-    /// coefficient is loaded once and y stored once (nalgebra's gemv does one axpy per column).
-    fn product(&self, x: &[f64], y: &mut [f64]) {
-        debug_assert!(x.len() == self.cols && y.len() == self.ld);
-        let mut start = 0;
-        while start < self.ld {
-            start += match self.ld - start {
-                32.. => self.chunk::<32>(start, x, y),
-                16.. => self.chunk::<16>(start, x, y),
-                8.. => self.chunk::<8>(start, x, y),
-                _ => self.chunk::<4>(start, x, y),
-            };
-        }
-    }
-
-    /// Rows start..start + R of A x; returns R.
-    #[inline(always)]
-    fn chunk<const R: usize>(&self, start: usize, x: &[f64], y: &mut [f64]) -> usize {
-        let mut acc = [0.0; R];
-        for (column, &xj) in self.values.chunks_exact(self.ld).zip(x) {
-            let column: &[f64; R] = column[start..start + R].try_into().expect("R rows");
-            for (a, &c) in acc.iter_mut().zip(column) {
-                *a = c.mul_add(xj, *a);
-            }
-        }
-        y[start..start + R].copy_from_slice(&acc);
-        R
-    }
+enum Group {
+    One(usize),
+    /// Block `second` = diag(`row_sign`) · block `first` · diag(`mode_sign`), exactly.
+    Twins {
+        first: usize,
+        second: usize,
+        row_sign: Vec<f64>,
+        mode_sign: Vec<f64>,
+    },
 }
 
 /// Φ by family blocks.
 #[derive(Debug, Clone)]
 pub struct BlockBasis {
     blocks: Vec<Block>,
+    groups: Vec<Group>,
     dofs: usize,
 }
 
@@ -99,7 +61,7 @@ impl BlockBasis {
     /// Group the columns of `phi` by the family of each mode (`families[j]` for column j).
     pub fn new(phi: &DMatrix<f64>, families: &[Family]) -> Self {
         assert_eq!(families.len(), phi.ncols());
-        let mut blocks = Vec::new();
+        let mut blocks: Vec<Block> = Vec::new();
         for family in Family::ALL {
             let modes: Vec<usize> = (0..phi.ncols())
                 .filter(|&j| families[j] == family)
@@ -111,16 +73,41 @@ impl BlockBasis {
                 .filter(|&i| modes.iter().any(|&j| phi[(i, j)] != 0.0))
                 .collect();
             let values = DMatrix::from_fn(rows.len(), modes.len(), |r, c| phi[(rows[r], modes[c])]);
+            let t = values.transpose();
             blocks.push(Block {
+                padded: Padded::new(values.nrows(), values.ncols(), values.as_slice()),
+                padded_t: Padded::new(t.nrows(), t.ncols(), t.as_slice()),
                 rows,
                 modes,
-                padded: Padded::new(&values),
-                padded_t: Padded::new(&values.transpose()),
                 values,
+            });
+        }
+        let mut groups = Vec::new();
+        let mut paired = vec![false; blocks.len()];
+        for first in 0..blocks.len() {
+            if paired[first] {
+                continue;
+            }
+            let twin = (first + 1..blocks.len()).find_map(|second| {
+                let signs = mirror_signs(&blocks[first].values, &blocks[second].values);
+                signs.filter(|_| !paired[second]).map(|s| (second, s))
+            });
+            groups.push(match twin {
+                Some((second, (row_sign, mode_sign))) => {
+                    paired[second] = true;
+                    Group::Twins {
+                        first,
+                        second,
+                        row_sign,
+                        mode_sign,
+                    }
+                }
+                None => Group::One(first),
             });
         }
         BlockBasis {
             blocks,
+            groups,
             dofs: phi.nrows(),
         }
     }
@@ -157,39 +144,139 @@ impl BlockBasis {
         self.blocks.iter().map(|b| b.values.len()).sum()
     }
 
+    /// Pairs of blocks multiplied through one storage.
+    pub fn twins(&self) -> usize {
+        let twins = |g: &&Group| matches!(g, Group::Twins { .. });
+        self.groups.iter().filter(twins).count()
+    }
+
     /// y = Φ x (x: n modal coordinates, y: full DOF vector).
     pub fn expand(&self, x: &DVector<f64>, y: &mut DVector<f64>, work: &mut BlockWork) {
         debug_assert_eq!(y.len(), self.dofs);
+        let (x, y) = (x.as_slice(), y.as_mut_slice());
         y.fill(0.0);
-        for ((b, xm), yr) in self.blocks.iter().zip(&mut work.modal).zip(&mut work.rows) {
-            block_product(&b.padded, (x, &b.modes, xm), (yr, &b.rows, y));
+        for group in &self.groups {
+            match group {
+                &Group::One(b) => {
+                    let (block, xs, ys) = (&self.blocks[b], &mut work.modal[b], &mut work.rows[b]);
+                    let xs = gather(x, &block.modes, None, xs);
+                    block.padded.product(xs, ys);
+                    scatter_add(ys, &block.rows, None, y);
+                }
+                Group::Twins {
+                    first,
+                    second,
+                    row_sign,
+                    mode_sign,
+                } => {
+                    let [b1, b2] = [&self.blocks[*first], &self.blocks[*second]];
+                    let [x1, x2] = work.modal.get_disjoint_mut([*first, *second]).expect("two");
+                    let [y1, y2] = work.rows.get_disjoint_mut([*first, *second]).expect("two");
+                    let x1 = gather(x, &b1.modes, None, x1);
+                    let x2 = gather(x, &b2.modes, Some(mode_sign), x2);
+                    b1.padded.product2([x1, x2], [&mut *y1, &mut *y2]);
+                    scatter_add(y1, &b1.rows, None, y);
+                    scatter_add(y2, &b2.rows, Some(row_sign), y);
+                }
+            }
         }
     }
 
     /// out = Φᵀ f (f: full DOF vector, out: n modal coordinates).
     pub fn project(&self, f: &DVector<f64>, out: &mut DVector<f64>, work: &mut BlockWork) {
         debug_assert_eq!(f.len(), self.dofs);
+        let (f, out) = (f.as_slice(), out.as_mut_slice());
         out.fill(0.0);
-        for ((b, om), fr) in self.blocks.iter().zip(&mut work.modal).zip(&mut work.rows) {
-            block_product(&b.padded_t, (f, &b.rows, fr), (om, &b.modes, out));
+        for group in &self.groups {
+            match group {
+                &Group::One(b) => {
+                    let (block, fs, os) = (&self.blocks[b], &mut work.rows[b], &mut work.modal[b]);
+                    let fs = gather(f, &block.rows, None, fs);
+                    block.padded_t.product(fs, os);
+                    scatter_add(os, &block.modes, None, out);
+                }
+                Group::Twins {
+                    first,
+                    second,
+                    row_sign,
+                    mode_sign,
+                } => {
+                    let [b1, b2] = [&self.blocks[*first], &self.blocks[*second]];
+                    let [f1, f2] = work.rows.get_disjoint_mut([*first, *second]).expect("two");
+                    let [o1, o2] = work.modal.get_disjoint_mut([*first, *second]).expect("two");
+                    let f1 = gather(f, &b1.rows, None, f1);
+                    let f2 = gather(f, &b2.rows, Some(row_sign), f2);
+                    b1.padded_t.product2([f1, f2], [&mut *o1, &mut *o2]);
+                    scatter_add(o1, &b1.modes, None, out);
+                    scatter_add(o2, &b2.modes, Some(mode_sign), out);
+                }
+            }
         }
     }
 }
 
-/// y[to] += A x[from]: gather x at `from` into the work vector `xs`, multiply into the work
-/// vector `ys`, scatter-add at `to` (one block of Φ or of Φᵀ).
-fn block_product(
-    a: &Padded,
-    (x, from, xs): (&DVector<f64>, &[usize], &mut [f64]),
-    (ys, to, y): (&mut [f64], &[usize], &mut DVector<f64>),
-) {
-    for (g, &j) in xs.iter_mut().zip(from) {
-        *g = x[j];
+/// x at `from` (times `sign`, ±1) into the work vector `xs`; returns the gathered part. On
+/// slices: indexing a DVector goes through nalgebra's generic (row, column) indexing, several
+/// times slower here.
+fn gather<'w>(x: &[f64], from: &[usize], sign: Option<&[f64]>, xs: &'w mut [f64]) -> &'w [f64] {
+    let xs = &mut xs[..from.len()];
+    match sign {
+        None => xs.iter_mut().zip(from).for_each(|(g, &j)| *g = x[j]),
+        Some(s) => (xs.iter_mut().zip(from).zip(s)).for_each(|((g, &j), &s)| *g = s * x[j]),
     }
-    a.product(&xs[..from.len()], ys);
-    for (&v, &i) in ys.iter().zip(to) {
-        y[i] += v;
+    xs
+}
+
+/// y[to] += ys (times `sign`, ±1).
+fn scatter_add(ys: &[f64], to: &[usize], sign: Option<&[f64]>, y: &mut [f64]) {
+    match sign {
+        None => ys.iter().zip(to).for_each(|(&v, &i)| y[i] += v),
+        Some(s) => (ys.iter().zip(to).zip(s)).for_each(|((&v, &i), &s)| y[i] += s * v),
     }
+}
+
+/// Signs (per row, per column) with b = diag(row) · a · diag(column) exactly, if there are such.
+/// The signs are propagated along the non-zeros of a (a sign per connected row–column set, the
+/// first column of each set taken +1); rows and columns of zeros get +1.
+fn mirror_signs(a: &DMatrix<f64>, b: &DMatrix<f64>) -> Option<(Vec<f64>, Vec<f64>)> {
+    if a.shape() != b.shape() {
+        return None;
+    }
+    let (mut row, mut col) = (vec![0.0; a.nrows()], vec![0.0; a.ncols()]);
+    for seed in 0..a.ncols() {
+        if col[seed] != 0.0 {
+            continue;
+        }
+        col[seed] = 1.0;
+        let mut changed = true;
+        while changed {
+            changed = false;
+            for j in 0..a.ncols() {
+                for i in 0..a.nrows() {
+                    let (x, y) = (a[(i, j)], b[(i, j)]);
+                    if x == 0.0 || y.abs() != x.abs() {
+                        continue;
+                    }
+                    let ratio = if y == x { 1.0 } else { -1.0 };
+                    if col[j] != 0.0 && row[i] == 0.0 {
+                        row[i] = ratio * col[j];
+                        changed = true;
+                    } else if row[i] != 0.0 && col[j] == 0.0 {
+                        col[j] = ratio * row[i];
+                        changed = true;
+                    }
+                }
+            }
+        }
+    }
+    for s in row.iter_mut().chain(&mut col) {
+        if *s == 0.0 {
+            *s = 1.0;
+        }
+    }
+    let exact =
+        (0..a.ncols()).all(|j| (0..a.nrows()).all(|i| b[(i, j)] == row[i] * a[(i, j)] * col[j]));
+    exact.then_some((row, col))
 }
 
 impl BlockBasis {
@@ -257,6 +344,48 @@ mod tests {
         blocks.add_projected_columns(&y, &mut out, &mut work);
         let expected = phi.transpose() * &y + DMatrix::from_element(4, 4, 1.0);
         assert!((&out - expected).norm() < 1e-14);
+    }
+
+    #[test]
+    fn mirrored_blocks_are_multiplied_together_and_exactly() {
+        // Modes 0, 1 (axial) on rows 0–4; modes 2, 3 (torsional) on rows 5–9 with the same
+        // values up to the signs of row 7 and of mode 3: one twin pair.
+        let base = DMatrix::from_fn(5, 2, |i, j| ((i * 3 + j) as f64 * 0.71).sin() + 0.1);
+        let (row_sign, mode_sign) = ([1.0, 1.0, -1.0, 1.0, 1.0], [1.0, -1.0]);
+        let phi = |perturb: f64| {
+            DMatrix::from_fn(10, 4, |i, j| match (i / 5, j / 2) {
+                (0, 0) => base[(i, j)],
+                (1, 1) => row_sign[i - 5] * base[(i - 5, j - 2)] * mode_sign[j - 2] + perturb,
+                _ => 0.0,
+            })
+        };
+        let families = [
+            Family::Axial,
+            Family::Axial,
+            Family::Torsional,
+            Family::Torsional,
+        ];
+        let x = DVector::from_fn(4, |j, _| (j as f64 * 1.3 + 0.4).cos());
+        let f = DVector::from_fn(10, |i, _| (i as f64 * 0.9 - 2.0).sin());
+        for (perturb, twins) in [(0.0, 1), (1e-15, 0)] {
+            let phi = phi(perturb);
+            let blocks = BlockBasis::new(&phi, &families);
+            assert_eq!(blocks.twins(), twins, "perturbation {perturb}");
+            let mut work = blocks.workspace();
+            let (mut y, mut p) = (DVector::zeros(10), DVector::zeros(4));
+            blocks.expand(&x, &mut y, &mut work);
+            blocks.project(&f, &mut p, &mut work);
+            assert!((&y - &phi * &x).norm() < 1e-14);
+            assert!((&p - phi.transpose() * &f).norm() < 1e-14);
+        }
+        // Signs spread along the non-zeros; a mismatch anywhere, zeros included, is no twin.
+        let a = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 0.0, 3.0]);
+        let b = DMatrix::from_row_slice(2, 2, &[-1.0, -2.0, 0.0, 3.0]);
+        let (rows, cols) = mirror_signs(&a, &b).expect("b = diag(-1, 1) a");
+        assert_eq!((rows, cols), (vec![-1.0, 1.0], vec![1.0, 1.0]));
+        let c = DMatrix::from_row_slice(2, 2, &[-1.0, -2.0, 1e-300, 3.0]);
+        assert!(mirror_signs(&a, &c).is_none());
+        assert!(mirror_signs(&a, &DMatrix::zeros(2, 3)).is_none());
     }
 
     #[test]

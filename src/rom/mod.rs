@@ -3,6 +3,7 @@
 mod blocks;
 mod eigen;
 mod modes;
+mod padded;
 mod reduced;
 mod sparse;
 

@@ -198,6 +198,13 @@ mod tests {
                 );
             }
         }
+        // The two bending planes have the same modes up to signs, so one block of Φ serves both,
+        // unless the mode count splits a pair (the 20 lowest hold 10 x–y and 9 x–z modes).
+        assert_eq!(r.blocks.twins(), 0);
+        assert_eq!(
+            ReducedModel::new(&p.model, 30, 21).unwrap().blocks.twins(),
+            1
+        );
         // Gyroscopic matrix is skew; the rigid masses are the string's mass and polar inertia.
         assert!(
             (&r.gyroscopic + r.gyroscopic.transpose()).abs().max()
