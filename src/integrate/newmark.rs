@@ -136,8 +136,8 @@ impl Newmark {
     }
 
     fn weighted_norm(&self, x: &DVector<f64>) -> f64 {
-        x.iter()
-            .zip(self.weights.iter())
+        (x.as_slice().iter())
+            .zip(self.weights.as_slice())
             .map(|(x, w)| (x * w) * (x * w))
             .sum::<f64>()
             .sqrt()
@@ -178,7 +178,7 @@ impl Newmark {
     pub fn attempt<S: ImplicitSystem>(&mut self, sys: &mut S, h: f64) -> StepOutcome {
         let (cq, cv) = (BETA * h * h, GAMMA * h);
         let t1 = self.t + h;
-        self.a1.copy_from(&self.a);
+        copy(&mut self.a1, &self.a);
         for i in 0..self.q.len() {
             let (q, v, a) = (self.q[i], self.v[i], self.a[i]);
             self.qp[i] = q + h * v + h * h * (0.5 - BETA) * a;
@@ -270,8 +270,13 @@ impl Newmark {
     fn error_estimate(&self, h: f64) -> f64 {
         let s = self.settings;
         let mut change = 0.0;
-        for i in 0..self.q.len() {
-            let d = (self.a1[i] - self.a[i]) * self.weights[i];
+        let (a1, a, w) = (
+            self.a1.as_slice(),
+            self.a.as_slice(),
+            self.weights.as_slice(),
+        );
+        for ((a1, a), w) in a1.iter().zip(a).zip(w) {
+            let d = (a1 - a) * w;
             change += d * d;
         }
         let size = self
@@ -282,24 +287,31 @@ impl Newmark {
 
     /// q1, v1 from the trial acceleration a1 (cq = βh², cv = γh).
     fn predict(&mut self, cq: f64, cv: f64) {
-        for i in 0..self.q.len() {
-            self.q1[i] = self.qp[i] + cq * self.a1[i];
-            self.v1[i] = self.vp[i] + cv * self.a1[i];
+        let (q1, v1) = (self.q1.as_mut_slice(), self.v1.as_mut_slice());
+        let base = self.qp.as_slice().iter().zip(self.vp.as_slice());
+        for ((q1, v1), ((qp, vp), a)) in q1.iter_mut().zip(v1).zip(base.zip(self.a1.as_slice())) {
+            *q1 = qp + cq * a;
+            *v1 = vp + cv * a;
         }
     }
 
     /// Make the trial state current after a successful attempt of length h.
     pub fn accept(&mut self, h: f64) {
         self.t += h;
-        self.q.copy_from(&self.q1);
-        self.v.copy_from(&self.v1);
-        self.a.copy_from(&self.a1);
+        copy(&mut self.q, &self.q1);
+        copy(&mut self.v, &self.v1);
+        copy(&mut self.a, &self.a1);
     }
 
     /// Ask for a fresh Jacobian at the next attempt (e.g. after a large change of step).
     pub fn mark_stale(&mut self) {
         self.stale = true;
     }
+}
+
+/// to = from, on slices (nalgebra's `copy_from` goes through its generic iterators).
+fn copy(to: &mut DVector<f64>, from: &DVector<f64>) {
+    to.as_mut_slice().copy_from_slice(from.as_slice());
 }
 
 #[cfg(test)]

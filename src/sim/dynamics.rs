@@ -174,7 +174,7 @@ impl<'m> Dynamics<'m> {
         }
         self.full_forces();
         for (e, x) in self.evaluated.iter_mut().zip([q, v, a]) {
-            e.copy_from(x);
+            e.as_mut_slice().copy_from_slice(x.as_slice());
         }
     }
 
@@ -204,7 +204,8 @@ impl<'m> Dynamics<'m> {
 
     /// f_full = f_int + f_gyro − F_wall − F_bit on the full mesh (expand first).
     fn full_forces(&mut self) {
-        self.f_full.fill(0.0);
+        // (On slices throughout: nalgebra's fill and copy_from go through its generic iterators.)
+        self.f_full.as_mut_slice().fill(0.0);
         let m = self.model;
         let (mut strain, mut kinetic) = (0.0, 0.0);
         for e in 0..m.elements() {
@@ -403,8 +404,12 @@ impl ImplicitSystem for Dynamics<'_> {
         phi.expand(qp, q_full, work);
         phi.expand(vp, v_full, work);
         add_rigid_velocity(v_full, self.op);
-        self.attempt_modal[0].copy_from(qp);
-        self.attempt_modal[1].copy_from(vp);
+        self.attempt_modal[0]
+            .as_mut_slice()
+            .copy_from_slice(qp.as_slice());
+        self.attempt_modal[1]
+            .as_mut_slice()
+            .copy_from_slice(vp.as_slice());
         self.attempt = Some((cq, cv));
     }
 
@@ -486,7 +491,7 @@ impl ImplicitSystem for Dynamics<'_> {
             });
             let [pv, pw] = &mut self.contact_rows;
             for (p, dof) in [(&mut *pv, Dof::V.at(node)), (&mut *pw, Dof::W.at(node))] {
-                p.fill(0.0);
+                p.as_mut_slice().fill(0.0);
                 let (modes, values) = phi.dof(dof);
                 for (&j, &x) in modes.iter().zip(values) {
                     p[j] = x;
