@@ -153,47 +153,29 @@ impl BlockBasis {
     /// y = Φ x (x: n modal coordinates, y: full DOF vector).
     pub fn expand(&self, x: &DVector<f64>, y: &mut DVector<f64>, work: &mut BlockWork) {
         debug_assert_eq!(y.len(), self.dofs);
-        let (x, y) = (x.as_slice(), y.as_mut_slice());
-        y.fill(0.0);
-        for group in &self.groups {
-            match group {
-                &Group::One(b) => {
-                    let (block, xs, ys) = (&self.blocks[b], &mut work.modal[b], &mut work.rows[b]);
-                    let xs = gather(x, &block.modes, None, xs);
-                    block.padded.product(xs, ys);
-                    scatter_add(ys, &block.rows, None, y);
-                }
-                Group::Twins {
-                    first,
-                    second,
-                    row_sign,
-                    mode_sign,
-                } => {
-                    let [b1, b2] = [&self.blocks[*first], &self.blocks[*second]];
-                    let [x1, x2] = work.modal.get_disjoint_mut([*first, *second]).expect("two");
-                    let [y1, y2] = work.rows.get_disjoint_mut([*first, *second]).expect("two");
-                    let x1 = gather(x, &b1.modes, None, x1);
-                    let x2 = gather(x, &b2.modes, Some(mode_sign), x2);
-                    b1.padded.product2([x1, x2], [&mut *y1, &mut *y2]);
-                    scatter_add(y1, &b1.rows, None, y);
-                    scatter_add(y2, &b2.rows, Some(row_sign), y);
-                }
-            }
-        }
+        self.product(Way::Expand, x.as_slice(), y.as_mut_slice(), work);
     }
 
     /// out = Φᵀ f (f: full DOF vector, out: n modal coordinates).
     pub fn project(&self, f: &DVector<f64>, out: &mut DVector<f64>, work: &mut BlockWork) {
         debug_assert_eq!(f.len(), self.dofs);
-        let (f, out) = (f.as_slice(), out.as_mut_slice());
-        out.fill(0.0);
+        self.product(Way::Project, f.as_slice(), out.as_mut_slice(), work);
+    }
+
+    /// y = Φ x or Φᵀ x, block by block: gather x, multiply, scatter-add into y (twins together).
+    fn product(&self, way: Way, x: &[f64], y: &mut [f64], work: &mut BlockWork) {
+        y.fill(0.0);
+        let (ins, outs) = match way {
+            Way::Expand => (&mut work.modal, &mut work.rows),
+            Way::Project => (&mut work.rows, &mut work.modal),
+        };
         for group in &self.groups {
             match group {
                 &Group::One(b) => {
-                    let (block, fs, os) = (&self.blocks[b], &mut work.rows[b], &mut work.modal[b]);
-                    let fs = gather(f, &block.rows, None, fs);
-                    block.padded_t.product(fs, os);
-                    scatter_add(os, &block.modes, None, out);
+                    let (a, from, to) = self.blocks[b].way(way);
+                    let xs = gather(x, from, None, &mut ins[b]);
+                    a.product(xs, &mut outs[b]);
+                    scatter_add(&outs[b], to, None, y);
                 }
                 Group::Twins {
                     first,
@@ -201,16 +183,38 @@ impl BlockBasis {
                     row_sign,
                     mode_sign,
                 } => {
-                    let [b1, b2] = [&self.blocks[*first], &self.blocks[*second]];
-                    let [f1, f2] = work.rows.get_disjoint_mut([*first, *second]).expect("two");
-                    let [o1, o2] = work.modal.get_disjoint_mut([*first, *second]).expect("two");
-                    let f1 = gather(f, &b1.rows, None, f1);
-                    let f2 = gather(f, &b2.rows, Some(row_sign), f2);
-                    b1.padded_t.product2([f1, f2], [&mut *o1, &mut *o2]);
-                    scatter_add(o1, &b1.modes, None, out);
-                    scatter_add(o2, &b2.modes, Some(mode_sign), out);
+                    let (sign_in, sign_out) = match way {
+                        Way::Expand => (mode_sign, row_sign),
+                        Way::Project => (row_sign, mode_sign),
+                    };
+                    let (a, from1, to1) = self.blocks[*first].way(way);
+                    let (_, from2, to2) = self.blocks[*second].way(way);
+                    let [x1, x2] = ins.get_disjoint_mut([*first, *second]).expect("two");
+                    let [y1, y2] = outs.get_disjoint_mut([*first, *second]).expect("two");
+                    let x1 = gather(x, from1, None, x1);
+                    let x2 = gather(x, from2, Some(sign_in), x2);
+                    a.product2([x1, x2], [&mut *y1, &mut *y2]);
+                    scatter_add(y1, to1, None, y);
+                    scatter_add(y2, to2, Some(sign_out), y);
                 }
             }
+        }
+    }
+}
+
+/// Which way a product goes: Φ x (modes → rows) or Φᵀ f (rows → modes).
+#[derive(Debug, Clone, Copy)]
+enum Way {
+    Expand,
+    Project,
+}
+
+impl Block {
+    /// The padded matrix of the product, the indices gathered from and scattered to.
+    fn way(&self, way: Way) -> (&Padded, &[usize], &[usize]) {
+        match way {
+            Way::Expand => (&self.padded, &self.modes, &self.rows),
+            Way::Project => (&self.padded_t, &self.rows, &self.modes),
         }
     }
 }
