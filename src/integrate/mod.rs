@@ -9,6 +9,12 @@ pub use newmark::{Newmark, NewmarkSettings, StepOutcome};
 
 use nalgebra::{DMatrix, DVector};
 
+/// to = from, on slices: nalgebra's `copy_from` goes through its generic iterators, which do not
+/// vectorise (the time-step loop copies vectors several times per residual).
+pub fn copy_vector(to: &mut DVector<f64>, from: &DVector<f64>) {
+    to.as_mut_slice().copy_from_slice(from.as_slice());
+}
+
 /// Weights of the Jacobian blocks: ca ∂r/∂q̈ + cv ∂r/∂q̇ + cq ∂r/∂q.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JacobianCoefficients {

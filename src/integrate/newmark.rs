@@ -16,7 +16,7 @@
 //! rejected anyway, and Newton stops there (measured on a 10 s seed window: of the attempts whose
 //! first-iterate estimate exceeded 1, 96 % ended above 1 after convergence).
 
-use super::{DenseLu, ImplicitSystem, JacobianCoefficients};
+use super::{DenseLu, ImplicitSystem, JacobianCoefficients, copy_vector};
 use nalgebra::{DMatrix, DVector};
 
 const BETA: f64 = 0.25;
@@ -178,7 +178,7 @@ impl Newmark {
     pub fn attempt<S: ImplicitSystem>(&mut self, sys: &mut S, h: f64) -> StepOutcome {
         let (cq, cv) = (BETA * h * h, GAMMA * h);
         let t1 = self.t + h;
-        copy(&mut self.a1, &self.a);
+        copy_vector(&mut self.a1, &self.a);
         for i in 0..self.q.len() {
             let (q, v, a) = (self.q[i], self.v[i], self.a[i]);
             self.qp[i] = q + h * v + h * h * (0.5 - BETA) * a;
@@ -298,20 +298,15 @@ impl Newmark {
     /// Make the trial state current after a successful attempt of length h.
     pub fn accept(&mut self, h: f64) {
         self.t += h;
-        copy(&mut self.q, &self.q1);
-        copy(&mut self.v, &self.v1);
-        copy(&mut self.a, &self.a1);
+        copy_vector(&mut self.q, &self.q1);
+        copy_vector(&mut self.v, &self.v1);
+        copy_vector(&mut self.a, &self.a1);
     }
 
     /// Ask for a fresh Jacobian at the next attempt (e.g. after a large change of step).
     pub fn mark_stale(&mut self) {
         self.stale = true;
     }
-}
-
-/// to = from, on slices (nalgebra's `copy_from` goes through its generic iterators).
-fn copy(to: &mut DVector<f64>, from: &DVector<f64>) {
-    to.as_mut_slice().copy_from_slice(from.as_slice());
 }
 
 #[cfg(test)]

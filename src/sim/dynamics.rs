@@ -10,7 +10,7 @@
 
 use super::{BitLoad, NodeContact, bit_rock, wall_contact};
 use crate::fem::{Dof, ElementVector};
-use crate::integrate::{ImplicitSystem, JacobianCoefficients};
+use crate::integrate::{ImplicitSystem, JacobianCoefficients, copy_vector};
 use crate::model::OperatingPoint;
 use crate::rom::{BlockWork, ReducedModel};
 use nalgebra::{DMatrix, DVector};
@@ -174,7 +174,7 @@ impl<'m> Dynamics<'m> {
         }
         self.full_forces();
         for (e, x) in self.evaluated.iter_mut().zip([q, v, a]) {
-            e.as_mut_slice().copy_from_slice(x.as_slice());
+            copy_vector(e, x);
         }
     }
 
@@ -204,7 +204,7 @@ impl<'m> Dynamics<'m> {
 
     /// f_full = f_int + f_gyro − F_wall − F_bit on the full mesh (expand first).
     fn full_forces(&mut self) {
-        // (On slices throughout: nalgebra's fill and copy_from go through its generic iterators.)
+        // On slices: nalgebra's fill goes through its generic iterators.
         self.f_full.as_mut_slice().fill(0.0);
         let m = self.model;
         let (mut strain, mut kinetic) = (0.0, 0.0);
@@ -404,12 +404,8 @@ impl ImplicitSystem for Dynamics<'_> {
         phi.expand(qp, q_full, work);
         phi.expand(vp, v_full, work);
         add_rigid_velocity(v_full, self.op);
-        self.attempt_modal[0]
-            .as_mut_slice()
-            .copy_from_slice(qp.as_slice());
-        self.attempt_modal[1]
-            .as_mut_slice()
-            .copy_from_slice(vp.as_slice());
+        copy_vector(&mut self.attempt_modal[0], qp);
+        copy_vector(&mut self.attempt_modal[1], vp);
         self.attempt = Some((cq, cv));
     }
 
