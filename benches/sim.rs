@@ -18,7 +18,7 @@ fn benches(c: &mut Criterion) {
         "/problems/seed_mc2014.toml"
     ))
     .expect("seed problem");
-    let model = ReducedModel::new(&p.model, p.mesh.elements, p.mesh.reduced_modes).expect("modes");
+    let model = ReducedModel::new(&p.model, p.mesh.elements, &p.mesh.basis).expect("modes");
     let (q_static, _) = static_equilibrium(&model).expect("static equilibrium");
     let n = model.size();
 

@@ -18,6 +18,7 @@ pub mod rom;
 pub mod sim;
 pub mod solve;
 pub mod uncertain;
+pub mod verify;
 
 /// Version of drillopt, recorded in every result file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -190,7 +190,7 @@ fn stocky_pinned_beam_matches_exact_timoshenko_and_refinement_converges_monotoni
     let mut previous_err = [f64::INFINITY; 3];
     let mut ratio = [0.0; 3];
     for elements in [2, 4, 8, 16, 32] {
-        let basis = ModalBasis::of(
+        let basis = ModalBasis::lowest(
             &assemble(&s, elements),
             &pinned_pinned(elements),
             12,
@@ -239,7 +239,12 @@ fn seed_refinement_converges_monotonically_to_the_rod_and_beam_closed_forms() {
     let mut prev = [f64::INFINITY; 3];
     for elements in [3, 6, 12, 24, 48, 96] {
         let free = BoundaryConditions::drillstring(elements).free_count();
-        let basis = ModalBasis::compute(&s, elements, free.min(40)).unwrap();
+        let basis = ModalBasis::compute(
+            &s,
+            elements,
+            &drillopt::model::BasisSpec::Lowest(free.min(40)),
+        )
+        .unwrap();
         let fe = [
             first(&basis, Family::Axial, 1),
             first(&basis, Family::Torsional, 1),
@@ -263,7 +268,7 @@ fn modes_are_mass_orthonormal_and_satisfy_the_eigen_equation() {
     let s = string();
     let g = assemble(&s, 105);
     let bc = BoundaryConditions::drillstring(105);
-    let basis = ModalBasis::of(&g, &bc, 51, Par::Seq).unwrap();
+    let basis = ModalBasis::lowest(&g, &bc, 51, Par::Seq).unwrap();
     let phi = &basis.shapes;
     let gram = phi.transpose() * &g.mass * phi;
     for i in 0..51 {

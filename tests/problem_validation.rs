@@ -5,6 +5,7 @@
 //! inserted, so a failure can only come from that one change.
 
 use approx::assert_relative_eq;
+use drillopt::model::{BasisSpec, FamilySize, Start};
 use drillopt::problem::{Problem, ProblemError};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -170,7 +171,8 @@ fn the_seed_file_loads_with_the_exact_table_1_values() {
     assert_eq!(m.bit.friction, 0.04);
 
     assert_eq!(p.mesh.elements, 105);
-    assert_eq!(p.mesh.reduced_modes, 51);
+    assert_eq!(p.mesh.basis, BasisSpec::DEFAULT);
+    assert_eq!(p.simulation.start, Start::Preloaded);
     assert_eq!(p.operating_point.omega, 2.0 * PI);
     assert_eq!(p.operating_point.v0, 1.0 / 720.0);
     assert_eq!(p.simulation.duration, 90.0);
@@ -418,11 +420,6 @@ fn a_missing_required_key_is_refused() {
     refused(
         &remove("model", "length"),
         "model.length",
-        &["missing field"],
-    );
-    refused(
-        &remove("mesh", "reduced_modes"),
-        "mesh.reduced_modes",
         &["missing field"],
     );
     refused(
@@ -822,37 +819,86 @@ fn zero_or_too_many_elements_are_refused() {
 #[test]
 fn reduced_modes_must_be_between_one_and_the_free_dofs() {
     // 105 elements: 6 × 106 = 636 DOF, less the 6 at the top and v, w at the bit: 628 free.
-    refused(
-        &set("mesh", "reduced_modes", "0"),
-        "mesh.reduced_modes",
-        &["[1, 628]"],
-    );
-    refused(
-        &set("mesh", "reduced_modes", "-1"),
-        "mesh.reduced_modes",
-        &["[1, 628]"],
-    );
-    refused(
-        &set("mesh", "reduced_modes", "629"),
-        "mesh.reduced_modes",
-        &["[1, 628]"],
-    );
-    refused(
-        &set("mesh", "reduced_modes", "636"),
-        "mesh.reduced_modes",
-        &["free DOFs"],
-    );
+    let lowest = |n: &str| insert("mesh", "reduced_modes", n);
+    refused(&lowest("0"), "mesh.reduced_modes", &["[1, 628]"]);
+    refused(&lowest("-1"), "mesh.reduced_modes", &["[1, 628]"]);
+    refused(&lowest("629"), "mesh.reduced_modes", &["[1, 628]"]);
+    refused(&lowest("636"), "mesh.reduced_modes", &["free DOFs"]);
+    assert_eq!(accepted(&lowest("628")).mesh.basis, BasisSpec::Lowest(628));
+    assert_eq!(accepted(&lowest("1")).mesh.basis, BasisSpec::Lowest(1));
+}
+
+/// `[mesh.basis]`: counts in [1, elements] or cutoff frequencies in Hz; exclusive with
+/// `reduced_modes`.
+#[test]
+fn basis_per_family_is_read_and_checked() {
+    let with_basis = |bending: &str, torsional: &str, extra: &str| {
+        SEED.replace(
+            "[operating_point]",
+            &format!(
+                "[mesh.basis]\nbending = {bending}\ntorsional = {torsional}\naxial = 3\n{extra}\n[operating_point]"
+            ),
+        )
+    };
     assert_eq!(
-        accepted(&set("mesh", "reduced_modes", "628"))
-            .mesh
-            .reduced_modes,
-        628
+        accepted(&with_basis(
+            "20",
+            "\"150 Hz\"",
+            "static_corrections = false"
+        ))
+        .mesh
+        .basis,
+        BasisSpec::PerFamily {
+            bending: FamilySize::Count(20),
+            torsional: FamilySize::Cutoff { hz: 150.0, min: 1 },
+            axial: FamilySize::Count(3),
+            static_corrections: false,
+        }
     );
+    refused(
+        &with_basis("0", "8", ""),
+        "mesh.basis.bending",
+        &["[1, 105]"],
+    );
+    refused(
+        &with_basis("2.5", "8", ""),
+        "mesh.basis.bending",
+        &["integer"],
+    );
+    refused(
+        &with_basis("20", "\"150 rpm\"", ""),
+        "mesh.basis.torsional",
+        &["Hz"],
+    );
+    refused(
+        &with_basis("20", "\"1e6 Hz\"", ""),
+        "mesh.basis.torsional",
+        &["(0, 100000] Hz"],
+    );
+    refused(
+        &with_basis("20", "8", "").replace("elements = 105", "elements = 105\nreduced_modes = 51"),
+        "mesh.basis",
+        &["not both"],
+    );
+    refused(
+        &with_basis("20", "8", "modes = 3"),
+        "mesh.basis.modes",
+        &["unknown field"],
+    );
+}
+
+#[test]
+fn the_start_is_preloaded_or_unloaded() {
     assert_eq!(
-        accepted(&set("mesh", "reduced_modes", "1"))
-            .mesh
-            .reduced_modes,
-        1
+        accepted(&insert("simulation", "start", "\"unloaded\""))
+            .simulation
+            .start,
+        Start::Unloaded
+    );
+    refused(
+        &insert("simulation", "start", "\"loaded\""),
+        "simulation.start",
+        &["preloaded", "unloaded"],
     );
 }
 

@@ -20,6 +20,7 @@ use common::{Table1, seed};
 use drillopt::fem::Dof;
 use drillopt::integrate::{ImplicitSystem, JacobianCoefficients};
 use drillopt::metrics::{self, Metrics, MetricsConfig};
+use drillopt::model::BasisSpec;
 use drillopt::model::{Drillstring, OperatingPoint};
 use drillopt::rom::{Family, ReducedModel};
 use drillopt::sim::{Dynamics, Effects, InitialState, RunSettings, simulate, xi};
@@ -88,7 +89,7 @@ fn torsional_stability_threshold_from_velocity_weakening() {
     let p = seed();
     let op = p.operating_point;
     // The seed mesh: c_crit ≈ 46 1/s (the seed's c = 0.03 1/s is far below it: stick-slip).
-    let full = ReducedModel::new(&p.model, p.mesh.elements, p.mesh.reduced_modes).unwrap();
+    let full = ReducedModel::new(&p.model, p.mesh.elements, &p.mesh.basis).unwrap();
     let (_, phi_full) = first_torsional(&full);
     let c_seed = critical_damping(&p.model, phi_full, &op);
     // A uniform fixed–free rod has φ_j(L)² = 2/(ρ J_p L) for every mode (J_p = 2I).
@@ -102,7 +103,7 @@ fn torsional_stability_threshold_from_velocity_weakening() {
 
     // The test configuration: 24 elements, 32 modes (torsional modes 1 and 2 at 16.9, 50.7 Hz).
     let (elements, modes, duration) = (24, 32, 3.0);
-    let coarse = ReducedModel::new(&p.model, elements, modes).unwrap();
+    let coarse = ReducedModel::new(&p.model, elements, &BasisSpec::Lowest(modes)).unwrap();
     let torsional = coarse.basis.family(Family::Torsional).count();
     assert!(torsional >= 2, "{torsional} torsional modes in the basis");
     let (j, phi_l) = first_torsional(&coarse);
@@ -113,7 +114,7 @@ fn torsional_stability_threshold_from_velocity_weakening() {
     for factor in [0.6, 1.5] {
         let mut string = p.model.clone();
         string.damping = factor * c_crit;
-        let model = ReducedModel::new(&string, elements, modes).unwrap();
+        let model = ReducedModel::new(&string, elements, &BasisSpec::Lowest(modes)).unwrap();
         // Kick the first torsional mode: bit speed +1e-6 rad/s on the steady rotation.
         let q = steady_state(&model, op);
         let mut v = DVector::zeros(model.size());
@@ -179,7 +180,7 @@ fn seed_metrics_converge_under_tolerance_refinement() {
     let p = seed();
     let op = p.operating_point;
     let duration = 1.0;
-    let model = ReducedModel::new(&p.model, p.mesh.elements, p.mesh.reduced_modes).unwrap();
+    let model = ReducedModel::new(&p.model, p.mesh.elements, &BasisSpec::Lowest(51)).unwrap();
     let default = RunSettings::new(duration, p.simulation.time_step);
     // Tolerances / 4 gave only 1.12× the steps (3669 → 4111: the step is set as much by Newton
     // failures as by the error test), so refine by 16, which gave 1.76× (6471 steps).

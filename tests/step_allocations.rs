@@ -3,9 +3,10 @@
 //! holds a single test so that no other test allocates concurrently.
 
 use drillopt::integrate::{Newmark, NewmarkSettings, StepOutcome};
+use drillopt::model::{BasisSpec, FamilySize};
 use drillopt::problem::Problem;
 use drillopt::rom::ReducedModel;
-use drillopt::sim::{Dynamics, Effects, static_equilibrium};
+use drillopt::sim::{Dynamics, Effects, preloaded_equilibrium};
 use nalgebra::DVector;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -37,8 +38,15 @@ fn newmark_steps_of_the_drillstring_allocate_nothing() {
         "/problems/seed_mc2014.toml"
     ))
     .unwrap();
-    let model = ReducedModel::new(&p.model, 30, 24).unwrap();
-    let (q, _) = static_equilibrium(&model).unwrap();
+    // Every kind of basis vector: modes of each family and the bit's static corrections.
+    let basis = BasisSpec::PerFamily {
+        bending: FamilySize::Count(10),
+        torsional: FamilySize::Count(2),
+        axial: FamilySize::Count(2),
+        static_corrections: true,
+    };
+    let model = ReducedModel::new(&p.model, 30, &basis).unwrap();
+    let (q, _) = preloaded_equilibrium(&model, p.operating_point, Effects::ALL).unwrap();
     let n = model.size();
     let mut sys = Dynamics::new(&model, p.operating_point, Effects::ALL);
     // refresh_after = 0 forces the strain-tangent refresh at every iteration, so that path is

@@ -9,6 +9,7 @@ mod simulate;
 mod solve;
 mod study;
 mod study_plots;
+mod verify;
 
 use clap::{Parser, Subcommand};
 
@@ -34,6 +35,34 @@ pub enum Command {
     Map(map::MapArgs),
     /// Solve every problem with an [expect] section in a directory; fail on any regression.
     Batch(batch::BatchArgs),
+    /// Solution verification at one operating point: are the decision metrics converged in the
+    /// basis, the mesh, the integrator tolerances and the window? Exit status 1 when not.
+    Verify(verify::VerifyArgs),
+}
+
+/// The problem's reduced basis on assembled matrices; a basis that leaves a family empty is
+/// refused naming the file and the key that chose it.
+pub(crate) fn problem_basis(
+    path: &std::path::Path,
+    problem: &crate::problem::Problem,
+    global: &crate::fem::GlobalMatrices,
+    bc: &crate::fem::BoundaryConditions,
+) -> anyhow::Result<crate::rom::ModalBasis> {
+    crate::rom::ModalBasis::of(global, bc, &problem.mesh.basis, faer::Par::Seq)
+        .map_err(|e| basis_error(path, problem, e))
+}
+
+/// A basis error as the user should read it: file, key, what went wrong.
+pub(crate) fn basis_error(
+    path: &std::path::Path,
+    problem: &crate::problem::Problem,
+    e: crate::rom::BasisError,
+) -> anyhow::Error {
+    let key = match problem.mesh.basis {
+        crate::model::BasisSpec::Lowest(_) => "mesh.reduced_modes",
+        crate::model::BasisSpec::PerFamily { .. } => "mesh.basis",
+    };
+    anyhow::anyhow!("{}: key `{key}`: {e}", path.display())
 }
 
 /// Run a parsed command line.
@@ -45,5 +74,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Compare(args) => compare::run(&args),
         Command::Map(args) => map::run(&args),
         Command::Batch(args) => batch::run(&args),
+        Command::Verify(args) => verify::run(&args),
     }
 }

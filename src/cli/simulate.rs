@@ -49,6 +49,8 @@ struct Summary<'a> {
     version: &'a str,
     operating_point: OperatingPointJson,
     duration_s: f64,
+    /// Vectors of the reduced basis by family.
+    basis: crate::rom::BasisCounts,
     /// "completed", or "failed" with `error` saying when and why (what was computed is kept).
     status: &'a str,
     error: Option<String>,
@@ -57,7 +59,7 @@ struct Summary<'a> {
     solver: &'a SolverStats,
 }
 
-fn parse_override(
+pub(super) fn parse_override(
     text: &Option<String>,
     flag: &str,
     dim: Dimension,
@@ -114,7 +116,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         bar.set_position((1000.0 * t / duration) as u64);
         bar.set_message(format!("t = {t:.2} / {duration} s"));
     })
-    .context("modal analysis")?;
+    .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
     bar.finish_and_clear();
 
     let settling = problem.simulation.settling_time.min(0.5 * duration);
@@ -134,6 +136,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             v0_m_per_h: op.v0 * 3600.0,
         },
         duration_s: duration,
+        basis: output.basis,
         status: if output.error.is_none() {
             "completed"
         } else {
@@ -178,6 +181,7 @@ fn print_summary(s: &Summary, out: &Path) {
         st.rejected_steps,
         st.min_dt
     );
+    println!("  basis: {}", s.basis);
     if let Some(m) = &s.metrics {
         println!(
             "  ROP {:.3} m/h | SSI {:.2} | stick {:.1}% | bounce {:.1}% | impacts {:.2}/s | WOB {:.1} kN | TOB {:.2} kN·m | energy residual {:.1e}",

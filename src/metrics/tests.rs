@@ -9,8 +9,59 @@ const R_BH: f64 = 0.1;
 /// Uneven steps: 0.1, 0.15, 0.05, 0.4, 0.3, 0.6, 0.4.
 const UNEVEN: [f64; 8] = [0.0, 0.1, 0.25, 0.3, 0.7, 1.0, 1.6, 2.0];
 
+/// The raw bit speed (no averaging): the formulas on exact synthetic signals.
 fn config(settling_time: f64) -> MetricsConfig {
-    MetricsConfig::new(OMEGA, V0, R_BH, settling_time)
+    MetricsConfig {
+        speed_average: 0.0,
+        ..MetricsConfig::new(OMEGA, V0, R_BH, settling_time)
+    }
+}
+
+#[test]
+fn averaged_speed_removes_a_spike_and_keeps_a_slow_oscillation() {
+    // θ̇ = Ω (1 + a sin(2π t / P)) with P ≫ τ, plus a spike of height 3Ω and width w ≪ τ at
+    // t = 1.2 s. The τ-average of the sine is Ω (1 + a sinc-weighted sine): its extremes are
+    // Ω (1 ± a sin(πτ/P)/(πτ/P)); the spike adds at most 3Ω w / τ to the average.
+    let (a, period, tau, w) = (0.5, 0.5, 0.01, 1e-4);
+    let n = 200_000;
+    let t: Vec<f64> = (0..=n).map(|i| 2.0 * i as f64 / n as f64).collect();
+    let mut s = steady(&t);
+    let spike = |t: f64| {
+        if (t - 1.2).abs() < 0.5 * w {
+            3.0 * OMEGA
+        } else {
+            0.0
+        }
+    };
+    s.bit_angular_velocity = t
+        .iter()
+        .map(|&t| OMEGA * (1.0 + a * (2.0 * PI * t / period).sin()) + spike(t))
+        .collect();
+    // θ(t) = ∫ θ̇: exact for the sine, the spike's area 3Ω w added once it has passed.
+    s.bit_rotation = t
+        .iter()
+        .map(|&t| {
+            let sine =
+                OMEGA * (t - a * period / (2.0 * PI) * ((2.0 * PI * t / period).cos() - 1.0));
+            let passed = ((t - (1.2 - 0.5 * w)) / w).clamp(0.0, 1.0);
+            sine + 3.0 * OMEGA * w * passed
+        })
+        .collect();
+    let raw = compute(&s, &config(0.1)).unwrap();
+    assert!(
+        raw.max_bit_speed_ratio > 3.5,
+        "the raw speed sees the spike"
+    );
+    let cfg = MetricsConfig {
+        speed_average: tau,
+        ..config(0.1)
+    };
+    let m = compute(&s, &cfg).unwrap();
+    let x = PI * tau / period;
+    let amplitude = a * x.sin() / x;
+    assert_relative_eq!(m.stick_slip_severity, amplitude, max_relative = 2e-3);
+    assert!(m.max_bit_speed_ratio <= 1.0 + amplitude + 3.0 * w / tau + 1e-6);
+    assert!(m.max_bit_speed_ratio >= 1.0 + amplitude - 1e-3);
 }
 
 /// A bit drilling steadily, sampled at `t`: u = 0.3 + V0 t, θ̇ = Ω, constant WOB and TOB, no wall
@@ -234,11 +285,51 @@ fn efficiency_from_cumulative_work_over_the_window() {
     // Window from t = 1: 20 J to the rock over 50 J in (the whole run would give 22/60).
     let m = compute(&s, &config(0.5)).unwrap();
     assert_relative_eq!(m.efficiency, 0.4, max_relative = 1e-15);
+    // The string stores 10 J over the window (kinetic +4 J, potential +6 J): those were not
+    // spent, so 20 J of 40 J reached the rock.
+    s.kinetic_energy = vec![1.0, 1.0, 3.0, 5.0];
+    s.potential_energy = vec![2.0, 2.0, 5.0, 8.0];
+    assert_relative_eq!(
+        compute(&s, &config(0.5)).unwrap().efficiency,
+        0.5,
+        max_relative = 1e-15
+    );
+    // Released energy counts as spent: a string that gives back 30 J of its storage while the
+    // top does 50 J delivers 20 J of 80 J.
+    s.kinetic_energy = vec![31.0, 31.0, 10.0, 1.0];
+    s.potential_energy = vec![0.0; 4];
+    assert_relative_eq!(
+        compute(&s, &config(0.5)).unwrap().efficiency,
+        0.25,
+        max_relative = 1e-15
+    );
+    s.kinetic_energy = vec![0.0; 4];
     // No positive top work: 0, not NaN or ±∞.
     s.work_top = vec![5.0; 4];
     assert_eq!(compute(&s, &config(0.5)).unwrap().efficiency, 0.0);
     s.work_top = vec![0.0, 0.0, -1.0, -3.0];
     assert_eq!(compute(&s, &config(0.5)).unwrap().efficiency, 0.0);
+}
+
+/// ∫ WOB u̇ / ∫ (WOB u̇ + TOB θ̇): constant loads and speeds give WOB V / (WOB V + TOB Ω).
+#[test]
+fn axial_power_share_of_the_bit_work() {
+    let t = [0.0, 1.0, 2.0, 3.0];
+    let mut s = steady(&t);
+    s.weight_on_bit = vec![50e3; 4];
+    s.bit_velocity = vec![1e-3; 4];
+    s.torque_on_bit = vec![2e3; 4];
+    s.bit_angular_velocity = vec![6.0; 4];
+    let m = compute(&s, &config(0.0)).unwrap();
+    assert_relative_eq!(
+        m.axial_power_share,
+        50.0 / (50.0 + 12e3),
+        max_relative = 1e-14
+    );
+    // Off bottom: no bit work, share 0 (not NaN).
+    s.weight_on_bit = vec![0.0; 4];
+    s.torque_on_bit = vec![0.0; 4];
+    assert_eq!(compute(&s, &config(0.0)).unwrap().axial_power_share, 0.0);
 }
 
 #[test]
@@ -416,6 +507,13 @@ fn refuses_an_invalid_configuration() {
             "stick_threshold",
             MetricsConfig {
                 stick_threshold: 1.0,
+                ..config(0.0)
+            },
+        ),
+        (
+            "speed_average",
+            MetricsConfig {
+                speed_average: -0.01,
                 ..config(0.0)
             },
         ),

@@ -71,13 +71,13 @@ impl Drillstring {
     }
 }
 
-/// Finite-element discretisation and reduction sizes (MODEL.md §7).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Finite-element discretisation and reduction (MODEL.md §7).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
     /// Number of 2-node beam elements N (6(N+1) DOF).
     pub elements: usize,
-    /// Number of modes N_red kept in the reduced-order model.
-    pub reduced_modes: usize,
+    /// The modes (and static corrections) kept in the reduced-order model.
+    pub basis: super::BasisSpec,
 }
 
 impl Mesh {
@@ -107,4 +107,26 @@ pub struct Simulation {
     pub settling_time: f64,
     /// Positions x where the radial displacement is recorded, m.
     pub probes: Vec<f64>,
+    /// The state a run starts from.
+    pub start: Start,
+}
+
+/// The state a run starts from (MODEL.md §4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Start {
+    /// The steady drilling state of the operating point (bit, wall and damping loads on).
+    #[default]
+    Preloaded,
+    /// The paper's start: static equilibrium under gravity without bit load.
+    Unloaded,
+}
+
+impl Start {
+    /// The name used in problem files (`simulation.start`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Start::Preloaded => "preloaded",
+            Start::Unloaded => "unloaded",
+        }
+    }
 }

@@ -13,7 +13,7 @@ use crate::metrics::{self, MetricsConfig};
 use crate::model::{Drillstring, OperatingPoint};
 use crate::problem::Problem;
 use crate::problem::study::{Quantity, Study};
-use crate::rom::{EigenError, ReducedModel};
+use crate::rom::{BasisError, ReducedModel};
 use crate::sim::{Effects, InitialState, RunSettings, simulate};
 use crate::uncertain::{Distribution, SampleSet};
 use rayon::prelude::*;
@@ -121,7 +121,7 @@ pub struct RobustEvaluator<'a> {
 #[derive(Debug, thiserror::Error)]
 pub enum SetupError {
     #[error("modal analysis of sample {sample}: {source}")]
-    Modes { sample: usize, source: EigenError },
+    Modes { sample: usize, source: BasisError },
     #[error(
         "sample {sample} draws {key} = {value}, which is not admissible; narrow its law in [[uncertain.parameter]]"
     )]
@@ -142,8 +142,9 @@ pub fn model_hash(problem: &Problem) -> u64 {
         .map(|u| (u.key.name(), u.law))
         .collect();
     let text = format!(
-        "drillopt {}|{:?}|{:?}|{:?}|{:?}",
+        "drillopt {} rev {}|{:?}|{:?}|{:?}|{:?}",
         crate::VERSION,
+        crate::sim::SIMULATOR_REVISION,
         problem.model,
         problem.mesh,
         problem.simulation,
@@ -181,7 +182,7 @@ impl<'a> RobustEvaluator<'a> {
             .iter()
             .any(|u| u.key.changes_reduced_operators());
         let build = |i: usize, s: &Drillstring| {
-            ReducedModel::new(s, problem.mesh.elements, problem.mesh.reduced_modes)
+            ReducedModel::new(s, problem.mesh.elements, &problem.mesh.basis)
                 .map_err(|source| SetupError::Modes { sample: i, source })
         };
         let models = if rebuild {
@@ -292,7 +293,7 @@ impl<'a> RobustEvaluator<'a> {
             op,
             Effects::ALL,
             &self.settings,
-            InitialState::StaticEquilibrium,
+            InitialState::from(self.problem.simulation.start),
             |_| {},
         );
         if let Some(e) = out.error {

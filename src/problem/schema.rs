@@ -118,7 +118,20 @@ pub struct BitSection {
 #[serde(deny_unknown_fields)]
 pub struct MeshSection {
     pub elements: i64,
-    pub reduced_modes: i64,
+    /// The paper's "N lowest modes"; exclusive with `basis`.
+    pub reduced_modes: Option<i64>,
+    /// Modes per family; when neither this nor `reduced_modes` is given, the default basis.
+    pub basis: Option<BasisSection>,
+}
+
+/// `[mesh.basis]`: each family by count (an integer) or cutoff frequency (`"60 Hz"`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BasisSection {
+    pub bending: RawQuantity,
+    pub torsional: RawQuantity,
+    pub axial: RawQuantity,
+    pub static_corrections: Option<bool>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -136,4 +149,6 @@ pub struct SimulationSection {
     pub settling_time: Option<RawQuantity>,
     #[serde(default)]
     pub probes: Vec<RawQuantity>,
+    /// `"preloaded"` (default) or `"unloaded"` (the paper's).
+    pub start: Option<String>,
 }

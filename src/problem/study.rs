@@ -329,7 +329,7 @@ pub struct Study {
 }
 
 /// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
-pub const METRICS: [&str; 16] = [
+pub const METRICS: [&str; 17] = [
     "mean_rop_m_s",
     "mean_rop_m_per_h",
     "stick_slip_severity",
@@ -345,5 +345,6 @@ pub const METRICS: [&str; 16] = [
     "mean_tob_nm",
     "mse_pa",
     "efficiency",
+    "axial_power_share",
     "energy_balance_residual",
 ];

@@ -30,6 +30,8 @@ pub enum Dimension {
     Acceleration,
     /// Inverse time (rates, mass-proportional damping), SI unit 1/s.
     Rate,
+    /// Frequency of vibration, Hz (cutoff frequencies of the basis).
+    Frequency,
     /// Inverse velocity, SI unit s/m (the bit–rock rate α_BR).
     InverseVelocity,
     /// Linear stiffness, SI unit N/m.
@@ -82,6 +84,7 @@ impl Dimension {
             ],
             Dimension::Acceleration => &[("m/s2", 1.0), ("m/s^2", 1.0)],
             Dimension::Rate => &[("1/s", 1.0), ("Hz", 1.0)],
+            Dimension::Frequency => &[("Hz", 1.0), ("kHz", 1e3)],
             Dimension::InverseVelocity => &[("s/m", 1.0)],
             Dimension::Stiffness => &[("N/m", 1.0), ("kN/m", 1e3), ("MN/m", 1e6)],
             Dimension::CubicStiffness => &[("N/m3", 1.0), ("N/m^3", 1.0)],

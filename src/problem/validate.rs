@@ -3,7 +3,8 @@
 use super::schema::*;
 use super::{Dimension, Problem, ProblemError};
 use crate::model::{
-    BitRock, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, WallContact, cowper_shear_factor,
+    BasisSpec, BitRock, Drillstring, FamilySize, Mesh, OperatingPoint, Pipe, Simulation, Start,
+    WallContact, cowper_shear_factor,
 };
 use std::path::Path;
 
@@ -299,20 +300,72 @@ fn mesh(c: &Checker, m: &MeshSection) -> Result<Mesh, ProblemError> {
         ));
     }
     let elements = m.elements as usize;
-    let free = crate::fem::BoundaryConditions::drillstring(elements).free_count();
-    if m.reduced_modes < 1 || m.reduced_modes as usize > free {
-        return Err(c.fail(
-            "mesh.reduced_modes",
-            format!(
-                "must be an integer in [1, {free}] (the free DOFs of {elements} elements), got {}",
-                m.reduced_modes
-            ),
-        ));
+    let free = 6 * elements - 2; // 6(N+1) DOFs less the 8 constrained (MODEL.md §4)
+    let basis = match (&m.reduced_modes, &m.basis) {
+        (Some(_), Some(_)) => {
+            return Err(c.fail(
+                "mesh.basis",
+                "give either mesh.reduced_modes (the N lowest modes) or [mesh.basis] (modes per family), not both".into(),
+            ));
+        }
+        (Some(n), None) => {
+            if *n < 1 || *n as usize > free {
+                return Err(c.fail(
+                    "mesh.reduced_modes",
+                    format!(
+                        "must be an integer in [1, {free}] (the free DOFs of {elements} elements), got {n}"
+                    ),
+                ));
+            }
+            BasisSpec::Lowest(*n as usize)
+        }
+        (None, Some(b)) => BasisSpec::PerFamily {
+            bending: family_size(c, "mesh.basis.bending", &b.bending, elements)?,
+            torsional: family_size(c, "mesh.basis.torsional", &b.torsional, elements)?,
+            axial: family_size(c, "mesh.basis.axial", &b.axial, elements)?,
+            static_corrections: b.static_corrections.unwrap_or(true),
+        },
+        (None, None) => BasisSpec::DEFAULT,
+    };
+    Ok(Mesh { elements, basis })
+}
+
+/// Highest cutoff frequency accepted for a family, Hz: far above anything the bit or the wall
+/// excites, it keeps a typo from asking for every mode of the mesh.
+const MAX_CUTOFF_HZ: f64 = 1e5;
+
+/// A family's size: an integer count in [1, elements] or a cutoff frequency in (0, 1e5] Hz.
+fn family_size(
+    c: &Checker,
+    key: &str,
+    raw: &RawQuantity,
+    elements: usize,
+) -> Result<FamilySize, ProblemError> {
+    match raw {
+        RawQuantity::Number(n) => {
+            if n.fract() == 0.0 && *n >= 1.0 && *n <= elements as f64 {
+                Ok(FamilySize::Count(*n as usize))
+            } else {
+                Err(c.fail(
+                    key,
+                    format!(
+                        "must be a mode count, an integer in [1, {elements}] (mesh.elements), or a cutoff frequency such as \"60 Hz\", got {n}"
+                    ),
+                ))
+            }
+        }
+        RawQuantity::Text(_) => {
+            let hz = c.value(key, raw, Dimension::Frequency)?;
+            c.check(
+                key,
+                hz,
+                hz > 0.0 && hz <= MAX_CUTOFF_HZ,
+                &format!("a cutoff frequency in (0, {MAX_CUTOFF_HZ}] Hz"),
+                Dimension::Frequency,
+            )?;
+            Ok(FamilySize::Cutoff { hz, min: 1 })
+        }
     }
-    Ok(Mesh {
-        elements,
-        reduced_modes: m.reduced_modes as usize,
-    })
 }
 
 fn operating_point(c: &Checker, o: &OperatingPointSection) -> Result<OperatingPoint, ProblemError> {
@@ -366,10 +419,23 @@ fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulat
             )
         })
         .collect::<Result<_, _>>()?;
+    let start = match s.start.as_deref() {
+        None | Some("preloaded") => Start::Preloaded,
+        Some("unloaded") => Start::Unloaded,
+        Some(other) => {
+            return Err(c.fail(
+                "simulation.start",
+                format!(
+                    "must be \"preloaded\" (the steady drilling state of the operating point) or \"unloaded\" (the paper's static state without bit load), got \"{other}\""
+                ),
+            ));
+        }
+    };
     Ok(Simulation {
         duration,
         time_step,
         settling_time,
         probes,
+        start,
     })
 }

@@ -9,6 +9,6 @@ mod sparse;
 
 pub use blocks::{BlockBasis, BlockWork};
 pub use eigen::{EigenError, generalized_symmetric_eigen};
-pub use modes::{Family, ModalBasis, Mode};
+pub use modes::{BasisCounts, BasisError, Family, ModalBasis, Mode, ModeKind};
 pub use reduced::ReducedModel;
 pub use sparse::SparseBasis;

@@ -5,11 +5,11 @@
 //! acceleration, but the damping acts on absolute velocities (C = c M_pipe), so C Q̇_rigid projects
 //! to a constant load; and the kinetic energy has cross terms Q̇_rigidᵀ M Φ q̇.
 
-use super::{BlockBasis, BlockWork, EigenError, ModalBasis, SparseBasis};
+use super::{BasisError, BlockBasis, BlockWork, ModalBasis, SparseBasis};
 use crate::fem::{
     BoundaryConditions, Dof, ElementInertia, ElementStrains, GlobalMatrices, StrainEnergy, assemble,
 };
-use crate::model::Drillstring;
+use crate::model::{BasisSpec, Drillstring};
 use faer::Par;
 use nalgebra::{DMatrix, DVector};
 
@@ -52,11 +52,16 @@ fn to_na(m: &faer::Mat<f64>) -> DMatrix<f64> {
 }
 
 impl ReducedModel {
-    /// Assemble, take the `modes` lowest modes and project.
-    pub fn new(string: &Drillstring, elements: usize, modes: usize) -> Result<Self, EigenError> {
+    /// Assemble, build the basis `spec` and project.
+    pub fn new(
+        string: &Drillstring,
+        elements: usize,
+        spec: &BasisSpec,
+    ) -> Result<Self, BasisError> {
         let global = assemble(string, elements);
         let bc = BoundaryConditions::drillstring(elements);
-        let basis = ModalBasis::of(&global, &bc, modes, Par::Seq)?;
+        let basis = ModalBasis::of(&global, &bc, spec, Par::Seq)?;
+        let modes = basis.len();
         let phi = to_na(&basis.shapes);
         let families: Vec<_> = basis.modes.iter().map(|m| m.family).collect();
         let mass = to_na(&global.mass);
@@ -176,10 +181,10 @@ mod tests {
             "/problems/seed_mc2014.toml"
         ))
         .unwrap();
-        let r = ReducedModel::new(&p.model, 30, 20).unwrap();
+        let r = ReducedModel::new(&p.model, 30, &BasisSpec::Lowest(51)).unwrap();
         // Tangent at rest = Φᵀ K Φ = Λ.
-        let mut kt = DMatrix::zeros(20, 20);
-        let mut scratch = DMatrix::zeros(r.phi.nrows(), 20);
+        let mut kt = DMatrix::zeros(51, 51);
+        let mut scratch = DMatrix::zeros(r.phi.nrows(), 51);
         let mut work = r.blocks.workspace();
         r.add_strain_tangent(
             &DVector::zeros(r.phi.nrows()),
@@ -188,8 +193,8 @@ mod tests {
             &mut work,
             true,
         );
-        for i in 0..20 {
-            for j in 0..20 {
+        for i in 0..51 {
+            for j in 0..51 {
                 let expected = if i == j { r.omega2[i] } else { 0.0 };
                 assert!(
                     (kt[(i, j)] - expected).abs() < 1e-8 * r.omega2.max(),
@@ -199,10 +204,14 @@ mod tests {
             }
         }
         // The two bending planes have the same modes up to signs, so one block of Φ serves both,
-        // unless the mode count splits a pair (the 20 lowest hold 10 x–y and 9 x–z modes).
+        // unless the mode count splits a pair (the 51 lowest of 30 elements hold 23 x–y and 22
+        // x–z modes; the 52 lowest, 23 of each: one pair of twin blocks).
         assert_eq!(r.blocks.twins(), 0);
         assert_eq!(
-            ReducedModel::new(&p.model, 30, 21).unwrap().blocks.twins(),
+            ReducedModel::new(&p.model, 30, &BasisSpec::Lowest(52))
+                .unwrap()
+                .blocks
+                .twins(),
             1
         );
         // Gyroscopic matrix is skew; the rigid masses are the string's mass and polar inertia.

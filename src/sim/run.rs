@@ -50,10 +50,25 @@ impl RunSettings {
 /// Where a run starts.
 #[derive(Debug, Clone, PartialEq)]
 pub enum InitialState {
-    /// Static equilibrium under gravity with wall contact, then the rigid velocity field.
+    /// The paper's unloaded start: static equilibrium under gravity with wall contact (no bit
+    /// load), then the rigid velocity field.
     StaticEquilibrium,
+    /// The steady drilling state of the operating point (MODEL.md §4, pre-loaded): the elastic
+    /// state at rest relative to the rigid motion (q̇ = 0) in equilibrium with gravity, wall
+    /// contact and friction, the bit force at u̇ = V0 and torque at θ̇ = Ω, and the damping of the
+    /// rigid motion: the compression and twist those loads make.
+    Preloaded,
     /// Given modal displacements and velocities (relative to the rigid motion).
     Given { q: DVector<f64>, v: DVector<f64> },
+}
+
+impl From<crate::model::Start> for InitialState {
+    fn from(start: crate::model::Start) -> Self {
+        match start {
+            crate::model::Start::Preloaded => InitialState::Preloaded,
+            crate::model::Start::Unloaded => InitialState::StaticEquilibrium,
+        }
+    }
 }
 
 /// Counters of the integrator.
@@ -102,6 +117,8 @@ pub struct RunOutput {
     pub error: Option<SimulationError>,
     /// Final modal state (q, q̇).
     pub final_state: (DVector<f64>, DVector<f64>),
+    /// The reduced basis the run used.
+    pub basis: crate::rom::BasisCounts,
 }
 
 /// Static equilibrium under gravity with wall contact (no motion, no bit): Newton on ∂r/∂q with
@@ -113,14 +130,31 @@ pub fn static_equilibrium(model: &ReducedModel) -> Result<(DVector<f64>, usize),
         wall: true,
         bit: false,
     };
-    let mut sys = Dynamics::new(
-        model,
-        OperatingPoint {
-            omega: 0.0,
-            v0: 0.0,
-        },
-        effects,
-    );
+    let rest = OperatingPoint {
+        omega: 0.0,
+        v0: 0.0,
+    };
+    equilibrium(model, rest, effects)
+}
+
+/// The steady drilling state at `op` (see [`InitialState::Preloaded`]): r(q, 0, 0) = 0 with every
+/// load of `effects` at the rigid velocity field, solved as [`static_equilibrium`].
+pub fn preloaded_equilibrium(
+    model: &ReducedModel,
+    op: OperatingPoint,
+    effects: Effects,
+) -> Result<(DVector<f64>, usize), SimulationError> {
+    equilibrium(model, op, effects)
+}
+
+/// r(q, 0, 0) = 0 at `op` with `effects`: Newton with each lateral update limited to half the gap
+/// and a backtracking line search on the residual norm.
+fn equilibrium(
+    model: &ReducedModel,
+    op: OperatingPoint,
+    effects: Effects,
+) -> Result<(DVector<f64>, usize), SimulationError> {
+    let mut sys = Dynamics::new(model, op, effects);
     let n = model.size();
     let (mut q, zero) = (DVector::zeros(n), DVector::zeros(n));
     let (mut r, mut j, mut lu) = (DVector::zeros(n), DMatrix::zeros(n, n), DenseLu::new(n));
@@ -299,6 +333,38 @@ impl StepController {
     }
 }
 
+/// Steps per period of the lowest torsional and lowest axial mode that the step never falls
+/// below (see [`resolving_step`]).
+pub const STEPS_PER_PERIOD: f64 = 20.0;
+
+/// The largest step that resolves the lowest torsional and axial modes with
+/// [`STEPS_PER_PERIOD`] steps per period, s. The local error estimate cannot ask for this: from
+/// the pre-loaded steady state, stick-slip and bit-bounce grow out of round-off, where the error
+/// of any step is at round-off too; with steps longer than the period (the paper's 69 ms against
+/// the seed's 59 ms first torsional period) average acceleration shrinks the growth rate of the
+/// unstable torsional mode to almost nothing (by (ωh/2)⁻² per unit time) and the steady state
+/// survives for ever. ∞ when the basis has neither family.
+pub fn resolving_step(model: &ReducedModel) -> f64 {
+    let lowest = |family| {
+        model
+            .basis
+            .family(family)
+            .map(|m| m.freq_hz)
+            .fold(f64::INFINITY, f64::min)
+    };
+    // The higher of the two lowest frequencies: both modes get at least STEPS_PER_PERIOD steps.
+    let f = [crate::rom::Family::Torsional, crate::rom::Family::Axial]
+        .map(lowest)
+        .into_iter()
+        .filter(|f| f.is_finite())
+        .fold(0.0, f64::max);
+    if f > 0.0 {
+        1.0 / (STEPS_PER_PERIOD * f)
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Run the model at operating point `op` with the given effects.
 pub fn simulate(
     model: &ReducedModel,
@@ -326,24 +392,31 @@ pub fn simulate(
         last: None,
         gap: model.string.gap(),
     };
-    let (q0, v0) = match initial {
-        InitialState::Given { q, v } => (q, v),
-        InitialState::StaticEquilibrium => match static_equilibrium(model) {
-            Ok((q, iterations)) => {
-                stats.static_iterations = iterations;
-                (q, DVector::zeros(n))
-            }
-            Err(e) => {
-                stats.wall_time_s = clock.elapsed().as_secs_f64();
-                let z = DVector::zeros(n);
-                return RunOutput {
-                    series: rec.series,
-                    stats,
-                    error: Some(e),
-                    final_state: (z.clone(), z),
-                };
-            }
-        },
+    let equilibrium = match initial {
+        InitialState::Given { q, v } => Ok((q, v, 0)),
+        InitialState::StaticEquilibrium => {
+            static_equilibrium(model).map(|(q, i)| (q, DVector::zeros(n), i))
+        }
+        InitialState::Preloaded => {
+            preloaded_equilibrium(model, op, effects).map(|(q, i)| (q, DVector::zeros(n), i))
+        }
+    };
+    let (q0, v0) = match equilibrium {
+        Ok((q, v, iterations)) => {
+            stats.static_iterations = iterations;
+            (q, v)
+        }
+        Err(e) => {
+            stats.wall_time_s = clock.elapsed().as_secs_f64();
+            let z = DVector::zeros(n);
+            return RunOutput {
+                series: rec.series,
+                stats,
+                error: Some(e),
+                final_state: (z.clone(), z),
+                basis: model.basis.counts(),
+            };
+        }
     };
     let mut sys = Dynamics::new(model, op, effects);
     // Energy-norm weights: ω_i, floored at the lowest mode's so that no coordinate is ignored.
@@ -357,10 +430,11 @@ pub fn simulate(
     }
     let obs = sys.observe(&nm.q, &nm.v, &nm.a);
     rec.push(0.0, &op, obs, &sys, &settings.probes);
-    let mut h = settings.max_step.min(settings.duration) * 0.01;
+    let max_step = settings.max_step.min(resolving_step(model));
+    let mut h = (max_step.min(settings.duration) * 0.01).max(settings.min_step);
     let mut controller = StepController::default();
     while error.is_none() && nm.t < settings.duration * (1.0 - 1e-12) {
-        h = h.min(settings.max_step).min(settings.duration - nm.t);
+        h = h.min(max_step).min(settings.duration - nm.t);
         match nm.attempt(&mut sys, h) {
             StepOutcome::Converged {
                 iterations,
@@ -428,6 +502,7 @@ pub fn simulate(
         stats,
         error,
         final_state: (nm.q.clone(), nm.v.clone()),
+        basis: model.basis.counts(),
     }
 }
 
@@ -438,12 +513,8 @@ pub fn run_problem(
     op: OperatingPoint,
     duration: f64,
     progress: impl FnMut(f64),
-) -> Result<RunOutput, crate::rom::EigenError> {
-    let model = ReducedModel::new(
-        &problem.model,
-        problem.mesh.elements,
-        problem.mesh.reduced_modes,
-    )?;
+) -> Result<RunOutput, crate::rom::BasisError> {
+    let model = ReducedModel::new(&problem.model, problem.mesh.elements, &problem.mesh.basis)?;
     let mut settings = RunSettings::new(duration, problem.simulation.time_step);
     settings.probes = problem.simulation.probes.clone();
     Ok(simulate(
@@ -451,7 +522,7 @@ pub fn run_problem(
         op,
         Effects::ALL,
         &settings,
-        InitialState::StaticEquilibrium,
+        InitialState::from(problem.simulation.start),
         progress,
     ))
 }

@@ -86,3 +86,15 @@ pub fn pinned_pinned_timoshenko_hz(
     let omega2 = (b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
     omega2.sqrt() / (2.0 * PI)
 }
+
+/// A small basis with every family and the bit's static corrections (10 bending modes per
+/// plane, 2 torsional, 2 axial): cheap, and it exercises every kind of basis vector.
+pub fn small_basis() -> drillopt::model::BasisSpec {
+    use drillopt::model::{BasisSpec, FamilySize};
+    BasisSpec::PerFamily {
+        bending: FamilySize::Count(10),
+        torsional: FamilySize::Count(2),
+        axial: FamilySize::Count(2),
+        static_corrections: true,
+    }
+}

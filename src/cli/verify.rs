@@ -1,0 +1,150 @@
+//! `drillopt verify PROBLEM [--omega] [--v0] [--duration S] [--json] [--quiet]`: solution
+//! verification of the decision metrics at one operating point (see [`crate::verify`]).
+
+use super::simulate::parse_override;
+use crate::model::OperatingPoint;
+use crate::problem::{Dimension, Problem};
+use crate::verify::{self, Refinement, VerifyReport, VerifySettings};
+use anyhow::Context;
+use clap::Args;
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct VerifyArgs {
+    /// Problem file (TOML).
+    pub problem: PathBuf,
+    /// Rotation speed, e.g. `60rpm` [default: the problem's operating point].
+    #[arg(long)]
+    pub omega: Option<String>,
+    /// Imposed axial velocity, e.g. `5m/h` [default: the problem's operating point].
+    #[arg(long)]
+    pub v0: Option<String>,
+    /// Simulated duration of the base run, e.g. `10s` [default: simulation.duration]; the
+    /// analysis window starts after simulation.settling_time (at most half the duration).
+    #[arg(long)]
+    pub duration: Option<String>,
+    /// Print the report as JSON: {"metrics": {KEY: {"value", "refined": {"basis", "mesh",
+    /// "tolerance", "window"}, "max_rel_change", "converged", …}}, "converged", "basis",
+    /// "refined_basis", "runs"}.
+    #[arg(long)]
+    pub json: bool,
+    /// No progress messages.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
+    let problem = Problem::load(&args.problem)?;
+    let op = OperatingPoint {
+        omega: parse_override(
+            &args.omega,
+            "--omega",
+            Dimension::AngularVelocity,
+            problem.operating_point.omega,
+        )?,
+        v0: parse_override(
+            &args.v0,
+            "--v0",
+            Dimension::Velocity,
+            problem.operating_point.v0,
+        )?,
+    };
+    let duration = parse_override(
+        &args.duration,
+        "--duration",
+        Dimension::Time,
+        problem.simulation.duration,
+    )?;
+    let settings = VerifySettings {
+        op,
+        duration,
+        settling: problem.simulation.settling_time.min(0.5 * duration),
+    };
+    if !args.quiet {
+        eprintln!(
+            "verify {}: base run and {} refinements ({}) at {:.1} rpm, {:.2} m/h, {duration} s …",
+            problem.name,
+            Refinement::ALL.len(),
+            Refinement::ALL.map(|r| r.name()).join(", "),
+            op.omega * 60.0 / (2.0 * PI),
+            op.v0 * 3600.0
+        );
+    }
+    let quiet = args.quiet;
+    let report = verify::verify(&problem, settings, |name| {
+        if !quiet {
+            eprintln!("  {name} run done");
+        }
+    })
+    .map_err(|e| match e {
+        verify::VerifyError::Basis { source, .. } => {
+            super::basis_error(&args.problem, &problem, source)
+        }
+        other => anyhow::Error::new(other),
+    })
+    .with_context(|| format!("verify {}", args.problem.display()))?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print_table(&report, &settings);
+    }
+    anyhow::ensure!(
+        report.converged,
+        "not converged: {} beyond tolerance",
+        report
+            .metrics
+            .iter()
+            .filter(|(_, v)| !v.converged)
+            .map(|(k, v)| format!(
+                "{k} ({:.1} % under {} refinement)",
+                100.0 * v.max_rel_change,
+                v.worst
+            ))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(())
+}
+
+fn print_table(r: &VerifyReport, s: &VerifySettings) {
+    println!(
+        "analysis window {:.1}–{:.1} s; basis {} → refined {}",
+        s.settling, s.duration, r.basis, r.refined_basis
+    );
+    print!("{:<22} {:>12}", "metric", "value");
+    for refinement in Refinement::ALL {
+        print!(" {:>12}", refinement.name());
+    }
+    println!(" {:>9} {:>6}  verdict", "max chg", "tol");
+    for (key, v) in &r.metrics {
+        print!("{key:<22} {:>12.5}", v.value);
+        for refinement in Refinement::ALL {
+            print!(" {:>12.5}", v.refined[refinement.name()]);
+        }
+        println!(
+            " {:>8.2}% {:>5.0}%  {}",
+            100.0 * v.max_rel_change,
+            100.0 * v.tolerance,
+            if v.converged {
+                "converged"
+            } else {
+                "NOT converged"
+            }
+        );
+    }
+    for run in &r.runs {
+        println!(
+            "  {:<10} {} elements, {} s, {} steps, {:.1} s wall",
+            run.name, run.elements, run.duration_s, run.steps, run.wall_time_s
+        );
+    }
+    println!(
+        "overall: {}",
+        if r.converged {
+            "converged"
+        } else {
+            "NOT converged"
+        }
+    );
+}

@@ -1,0 +1,341 @@
+//! Solution verification at one operating point (`drillopt verify`): is a decision metric a
+//! property of the model, or of its discretisation?
+//!
+//! The problem is run as it stands (the *base*) and four times refined, one numerical parameter at
+//! a time: every family of the basis enriched ([`BASIS_FACTOR`]), twice the elements, the
+//! integrator's tolerances divided by [`TOLERANCE_DIVISOR`], and an analysis window twice as long
+//! (same settling time). For each decision metric the largest relative change from the base,
+//! |refined − base| / max(|base|, floor), is compared with its tolerance: 2 % for means (ROP, WOB,
+//! TOB, MSE), 10 % for stick-slip statistics (SSI, stick fraction, peak bit speed ratio). The
+//! floors keep a metric that is (nearly) zero from turning round-off into a large relative change.
+//! This is a refinement study in the sense of Roache (*Verification and Validation in
+//! Computational Science and Engineering*, 1998, ch. 5): one factor at a time, verdict per metric.
+
+use crate::metrics::{self, Metrics, MetricsConfig};
+use crate::model::{BasisSpec, OperatingPoint};
+use crate::problem::Problem;
+use crate::rom::{BasisCounts, BasisError, ReducedModel};
+use crate::sim::{Effects, InitialState, RunSettings, SimulationError, simulate};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Enrichment of every family of the basis (counts and cutoffs), ≥ 1.5 as `verify` promises.
+pub const BASIS_FACTOR: f64 = 1.5;
+/// The integrator's tolerances (absolute, relative, Newton) are divided by this.
+pub const TOLERANCE_DIVISOR: f64 = 4.0;
+
+/// The kind of a decision metric, which sets its tolerance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MetricClass {
+    /// A time mean: tolerance 2 %.
+    Mean,
+    /// A stick-slip statistic (extremes and shares of time): tolerance 10 %.
+    StickSlip,
+}
+
+impl MetricClass {
+    /// Largest relative change accepted.
+    pub fn tolerance(self) -> f64 {
+        match self {
+            MetricClass::Mean => 0.02,
+            MetricClass::StickSlip => 0.10,
+        }
+    }
+}
+
+/// A decision metric: its `summary.json` key, class, absolute floor of the relative change, and
+/// how to read it.
+pub struct DecisionMetric {
+    pub key: &'static str,
+    pub class: MetricClass,
+    /// Denominator floor, in the metric's unit.
+    pub floor: f64,
+    pub get: fn(&Metrics) -> f64,
+}
+
+/// The metrics the optimizer ranks operating points by.
+pub const DECISION_METRICS: [DecisionMetric; 7] = [
+    DecisionMetric {
+        key: "mean_rop_m_per_h",
+        class: MetricClass::Mean,
+        floor: 0.01,
+        get: |m| m.mean_rop_m_per_h,
+    },
+    DecisionMetric {
+        key: "mean_wob_n",
+        class: MetricClass::Mean,
+        floor: 100.0,
+        get: |m| m.mean_wob_n,
+    },
+    DecisionMetric {
+        key: "mean_tob_nm",
+        class: MetricClass::Mean,
+        floor: 10.0,
+        get: |m| m.mean_tob_nm,
+    },
+    DecisionMetric {
+        key: "mse_pa",
+        class: MetricClass::Mean,
+        floor: 1e6,
+        get: |m| m.mse_pa,
+    },
+    DecisionMetric {
+        key: "stick_slip_severity",
+        class: MetricClass::StickSlip,
+        floor: 0.1,
+        get: |m| m.stick_slip_severity,
+    },
+    DecisionMetric {
+        key: "stick_fraction",
+        class: MetricClass::StickSlip,
+        floor: 0.05,
+        get: |m| m.stick_fraction,
+    },
+    DecisionMetric {
+        key: "max_bit_speed_ratio",
+        class: MetricClass::StickSlip,
+        floor: 1.0,
+        get: |m| m.max_bit_speed_ratio,
+    },
+];
+
+/// One numerical parameter refined.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Refinement {
+    Basis,
+    Mesh,
+    Tolerance,
+    Window,
+}
+
+impl Refinement {
+    pub const ALL: [Refinement; 4] = [
+        Refinement::Basis,
+        Refinement::Mesh,
+        Refinement::Tolerance,
+        Refinement::Window,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Refinement::Basis => "basis",
+            Refinement::Mesh => "mesh",
+            Refinement::Tolerance => "tolerance",
+            Refinement::Window => "window",
+        }
+    }
+}
+
+/// The verdict on one metric.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MetricVerdict {
+    pub class: MetricClass,
+    pub tolerance: f64,
+    /// The base run's value.
+    pub value: f64,
+    /// The value of each refined run.
+    pub refined: BTreeMap<&'static str, f64>,
+    /// Largest |refined − value| / max(|value|, floor) over the refinements.
+    pub max_rel_change: f64,
+    /// The refinement that moved it most.
+    pub worst: &'static str,
+    pub converged: bool,
+}
+
+/// One run of the study: what it was, its cost and its basis.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct VerifyRun {
+    pub name: &'static str,
+    pub elements: usize,
+    pub basis: BasisCounts,
+    pub duration_s: f64,
+    pub steps: usize,
+    pub wall_time_s: f64,
+}
+
+/// The outcome of `verify`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct VerifyReport {
+    pub metrics: BTreeMap<&'static str, MetricVerdict>,
+    pub converged: bool,
+    pub basis: BasisCounts,
+    pub refined_basis: BasisCounts,
+    pub runs: Vec<VerifyRun>,
+}
+
+/// Why the study could not be done.
+#[derive(Debug, thiserror::Error)]
+pub enum VerifyError {
+    #[error("{run} run: {source}")]
+    Basis {
+        run: &'static str,
+        #[source]
+        source: BasisError,
+    },
+    #[error("{run} run stopped: {source}")]
+    Simulation {
+        run: &'static str,
+        #[source]
+        source: SimulationError,
+    },
+    #[error("{run} run: metrics: {source}")]
+    Metrics {
+        run: &'static str,
+        #[source]
+        source: crate::metrics::MetricsError,
+    },
+}
+
+/// What to verify: the operating point and the window.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VerifySettings {
+    pub op: OperatingPoint,
+    /// Simulated duration of the base run, s.
+    pub duration: f64,
+    /// Settling time before the analysis window, s (< duration).
+    pub settling: f64,
+}
+
+/// One run's description.
+struct Variant {
+    name: &'static str,
+    elements: usize,
+    basis: BasisSpec,
+    duration: f64,
+    tolerance_divisor: f64,
+}
+
+/// Run the base and the four refinements (in parallel) and judge each decision metric.
+/// `progress` is told the name of each run as it finishes.
+pub fn verify(
+    problem: &Problem,
+    settings: VerifySettings,
+    progress: impl Fn(&str) + Sync,
+) -> Result<VerifyReport, VerifyError> {
+    let base = Variant {
+        name: "base",
+        elements: problem.mesh.elements,
+        basis: problem.mesh.basis.clone(),
+        duration: settings.duration,
+        tolerance_divisor: 1.0,
+    };
+    let window = settings.duration - settings.settling;
+    let variants: Vec<Variant> = std::iter::once(base)
+        .chain(Refinement::ALL.map(|r| {
+            let mut v = Variant {
+                name: r.name(),
+                elements: problem.mesh.elements,
+                basis: problem.mesh.basis.clone(),
+                duration: settings.duration,
+                tolerance_divisor: 1.0,
+            };
+            match r {
+                Refinement::Basis => v.basis = v.basis.enriched(BASIS_FACTOR),
+                Refinement::Mesh => v.elements *= 2,
+                Refinement::Tolerance => v.tolerance_divisor = TOLERANCE_DIVISOR,
+                Refinement::Window => v.duration = settings.settling + 2.0 * window,
+            }
+            v
+        }))
+        .collect();
+    let results: Vec<(VerifyRun, Metrics)> = variants
+        .par_iter()
+        .map(|v| {
+            let r = run_variant(problem, &settings, v);
+            progress(v.name);
+            r
+        })
+        .collect::<Result<_, _>>()?;
+    let (base_run, base_metrics) = &results[0];
+    let mut verdicts = BTreeMap::new();
+    for d in &DECISION_METRICS {
+        let value = (d.get)(base_metrics);
+        let mut refined = BTreeMap::new();
+        let (mut max_rel_change, mut worst) = (0.0_f64, "none");
+        for (run, m) in &results[1..] {
+            let r = (d.get)(m);
+            refined.insert(run.name, r);
+            let change = (r - value).abs() / value.abs().max(d.floor);
+            // A NaN change (a non-finite metric) counts as not converged.
+            if change.is_nan() || change > max_rel_change {
+                max_rel_change = change;
+                worst = run.name;
+            }
+        }
+        verdicts.insert(
+            d.key,
+            MetricVerdict {
+                class: d.class,
+                tolerance: d.class.tolerance(),
+                value,
+                refined,
+                max_rel_change,
+                worst,
+                converged: max_rel_change <= d.class.tolerance(),
+            },
+        );
+    }
+    Ok(VerifyReport {
+        converged: verdicts.values().all(|v| v.converged),
+        metrics: verdicts,
+        basis: base_run.basis,
+        refined_basis: results[1].0.basis,
+        runs: results.into_iter().map(|(r, _)| r).collect(),
+    })
+}
+
+fn run_variant(
+    problem: &Problem,
+    settings: &VerifySettings,
+    v: &Variant,
+) -> Result<(VerifyRun, Metrics), VerifyError> {
+    let model = ReducedModel::new(&problem.model, v.elements, &v.basis).map_err(|source| {
+        VerifyError::Basis {
+            run: v.name,
+            source,
+        }
+    })?;
+    let mut run = RunSettings::new(v.duration, problem.simulation.time_step);
+    run.newmark.atol /= v.tolerance_divisor;
+    run.newmark.rtol /= v.tolerance_divisor;
+    run.newmark.newton_tol /= v.tolerance_divisor;
+    let out = simulate(
+        &model,
+        settings.op,
+        Effects::ALL,
+        &run,
+        InitialState::from(problem.simulation.start),
+        |_| {},
+    );
+    if let Some(source) = out.error {
+        return Err(VerifyError::Simulation {
+            run: v.name,
+            source,
+        });
+    }
+    let config = MetricsConfig::new(
+        settings.op.omega,
+        settings.op.v0,
+        problem.model.borehole_radius,
+        settings.settling,
+    );
+    let metrics =
+        metrics::compute(&out.series, &config).map_err(|source| VerifyError::Metrics {
+            run: v.name,
+            source,
+        })?;
+    Ok((
+        VerifyRun {
+            name: v.name,
+            elements: v.elements,
+            basis: model.basis.counts(),
+            duration_s: v.duration,
+            steps: out.stats.steps,
+            wall_time_s: out.stats.wall_time_s,
+        },
+        metrics,
+    ))
+}
