@@ -107,10 +107,24 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Six significant digits, in exponent form outside [1e-3, 1e6).
+fn significant(x: f64) -> String {
+    if x != 0.0 && !(1e-3..1e6).contains(&x.abs()) {
+        format!("{x:.5e}")
+    } else {
+        let decimals = (5 - x.abs().log10().floor().max(0.0) as i32).max(0) as usize;
+        format!("{x:.decimals$}")
+    }
+}
+
 fn print_table(r: &VerifyReport, s: &VerifySettings) {
     println!(
-        "analysis window {:.1}–{:.1} s; basis {} → refined {}",
-        s.settling, s.duration, r.basis, r.refined_basis
+        "analysis window {:.3}–{:.3} s (the window refinement: to {:.3} s)\nbasis {}\nrefined basis {}",
+        s.settling,
+        s.duration,
+        2.0 * s.duration - s.settling,
+        r.basis,
+        r.refined_basis
     );
     print!("{:<22} {:>12}", "metric", "value");
     for refinement in Refinement::ALL {
@@ -118,9 +132,9 @@ fn print_table(r: &VerifyReport, s: &VerifySettings) {
     }
     println!(" {:>9} {:>6}  verdict", "max chg", "tol");
     for (key, v) in &r.metrics {
-        print!("{key:<22} {:>12.5}", v.value);
+        print!("{key:<22} {:>12}", significant(v.value));
         for refinement in Refinement::ALL {
-            print!(" {:>12.5}", v.refined[refinement.name()]);
+            print!(" {:>12}", significant(v.refined[refinement.name()]));
         }
         println!(
             " {:>8.2}% {:>5.0}%  {}",

@@ -134,6 +134,8 @@ impl Refinement {
 pub struct MetricVerdict {
     pub class: MetricClass,
     pub tolerance: f64,
+    /// Denominator floor of the relative change, in the metric's unit.
+    pub floor: f64,
     /// The base run's value.
     pub value: f64,
     /// The value of each refined run.
@@ -270,6 +272,7 @@ pub fn verify(
             MetricVerdict {
                 class: d.class,
                 tolerance: d.class.tolerance(),
+                floor: d.floor,
                 value,
                 refined,
                 max_rel_change,
