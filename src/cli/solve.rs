@@ -88,6 +88,85 @@ struct SolutionJson<'a> {
     evaluations: Vec<EvaluationJson>,
     path: &'a [PathPoint],
     work: WorkJson,
+    /// The basis refinement at the optimum (nominal parameters) beside the spread over samples.
+    numerical_check: Option<&'a NumericalCheckJson>,
+}
+
+/// One decision metric at the optimum: the numerical change under basis refinement (nominal
+/// parameters) against the statistical spread over the Monte Carlo samples.
+#[derive(Serialize)]
+struct CheckedMetric {
+    nominal: f64,
+    refined_basis: f64,
+    rel_change: f64,
+    tolerance: f64,
+    converged: bool,
+    /// Standard deviation of the metric over the samples at the optimum (0 with one sample).
+    sample_std_dev: f64,
+}
+
+#[derive(Serialize)]
+struct NumericalCheckJson {
+    basis: crate::rom::BasisCounts,
+    refined_basis: crate::rom::BasisCounts,
+    converged: bool,
+    metrics: BTreeMap<&'static str, CheckedMetric>,
+}
+
+/// Run the basis check of `verify` at the optimum and set it beside the sample spread.
+fn numerical_check(
+    problem: &Problem,
+    best: &PointEvaluation,
+) -> Result<NumericalCheckJson, crate::verify::VerifyError> {
+    use crate::verify::{Refinement, VerifySettings, verify_with};
+    let settings = VerifySettings {
+        op: crate::model::OperatingPoint {
+            omega: best.omega_rad_s,
+            v0: best.v0_m_s,
+        },
+        duration: problem.simulation.duration,
+        settling: problem.simulation.settling_time,
+    };
+    let report = verify_with(problem, settings, &[Refinement::Basis], |_| {})?;
+    let spread = |key: &str| {
+        let values: Vec<f64> = best
+            .samples
+            .iter()
+            .filter_map(|s| match &s.outcome {
+                crate::objective::robust::SampleOutcome::Metrics(m) => m.get(key).copied(),
+                _ => None,
+            })
+            .collect();
+        let n = values.len() as f64;
+        if n < 2.0 {
+            return 0.0;
+        }
+        let mean = values.iter().sum::<f64>() / n;
+        (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+    };
+    let metrics = report
+        .metrics
+        .iter()
+        .map(|(&key, v)| {
+            (
+                key,
+                CheckedMetric {
+                    nominal: v.value,
+                    refined_basis: v.refined[Refinement::Basis.name()],
+                    rel_change: v.max_rel_change,
+                    tolerance: v.tolerance,
+                    converged: v.converged,
+                    sample_std_dev: spread(key),
+                },
+            )
+        })
+        .collect();
+    Ok(NumericalCheckJson {
+        basis: report.basis,
+        refined_basis: report.refined_basis,
+        converged: report.converged,
+        metrics,
+    })
 }
 
 fn constraints_json(c: &Constraints, best: &PointEvaluation) -> ConstraintsJson {
@@ -152,10 +231,27 @@ pub fn solve_and_report(
         })),
     )?;
     bar.finish_and_clear();
+    let check = match outcome.best.as_ref() {
+        Some(best) => {
+            if !quiet {
+                eprintln!("checking the basis at the optimum (nominal parameters, basis x1.5) …");
+            }
+            Some(numerical_check(problem, best).map_err(|e| {
+                anyhow::anyhow!(
+                    "basis check at the optimum of {}: {e}",
+                    problem_file.display()
+                )
+            })?)
+        }
+        None => None,
+    };
     let work = WorkJson::of(&ev, clock.elapsed().as_secs_f64());
-    write_report(problem, problem_file, out, &outcome, work)?;
+    write_report(problem, problem_file, out, &outcome, work, check.as_ref())?;
     if !quiet {
         print_summary(problem, out, &outcome, &ev);
+        if let Some(c) = &check {
+            print_check(c);
+        }
     }
     Ok(outcome)
 }
@@ -166,6 +262,7 @@ fn write_report(
     out: &Path,
     outcome: &SolveOutcome,
     work: WorkJson,
+    check: Option<&NumericalCheckJson>,
 ) -> anyhow::Result<()> {
     let study_ = &problem.study;
     let constraints = study_
@@ -205,6 +302,7 @@ fn write_report(
         evaluations: outcome.evaluations.iter().map(evaluation_json).collect(),
         path: &outcome.path,
         work,
+        numerical_check: check,
     };
     report::write_json_atomic(&out.join("solution.json"), &json)?;
     super::study_plots::solve_plots(problem, out, outcome)?;
@@ -234,6 +332,33 @@ fn print_summary(
         "no feasible point was found",
     );
     println!("  results in {}", out.display());
+}
+
+fn print_check(c: &NumericalCheckJson) {
+    println!(
+        "numerical check at the optimum (nominal parameters; basis {} → {}): {}",
+        c.basis,
+        c.refined_basis,
+        if c.converged {
+            "converged"
+        } else {
+            "NOT converged"
+        }
+    );
+    println!(
+        "  {:<22} {:>12} {:>12} {:>9} {:>6} {:>14}",
+        "metric", "nominal", "refined", "change", "tol", "sample std dev"
+    );
+    for (key, m) in &c.metrics {
+        println!(
+            "  {key:<22} {:>12.6} {:>12.6} {:>8.2}% {:>5.0}% {:>14.6}",
+            m.nominal,
+            m.refined_basis,
+            100.0 * m.rel_change,
+            100.0 * m.tolerance,
+            m.sample_std_dev
+        );
+    }
 }
 
 pub fn run(args: &SolveArgs) -> anyhow::Result<()> {
