@@ -151,7 +151,8 @@ pub struct Metrics {
     /// Time-weighted standard deviation of the bit axial velocity u̇_bit divided by V0,
     /// dimensionless.
     pub axial_velocity_fluctuation: f64,
-    /// Contact onsets over all nodes per second: (onsets(t_end) − onsets(t_s)) / T_w, 1/s.
+    /// Wall impacts over all nodes per second (touch-downs after a separation of more than 1 % of
+    /// the gap at a normal speed of at least `sim::IMPACT_SPEED` = 1 cm/s), 1/s.
     pub impacts_per_s: f64,
     /// Largest wall normal force at any node and sample, N.
     pub peak_wall_force_n: f64,

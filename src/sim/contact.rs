@@ -13,6 +13,8 @@ pub struct NodeContact {
     pub active: bool,
     /// Indentation δ, m (≤ 0 when free).
     pub indentation: f64,
+    /// Normal approach speed δ̇ = n · (v̇, ẇ), m/s, positive towards the wall (0 when free).
+    pub approach_speed: f64,
     /// Normal force F_FS ≤ 0, N.
     pub normal: f64,
     /// Force on (v, w), N.
@@ -84,6 +86,7 @@ pub fn wall_contact(
     NodeContact {
         active: true,
         indentation: delta,
+        approach_speed: delta_dot,
         normal,
         force,
         torque,

@@ -11,12 +11,14 @@ pub use bit_rock::{BitLoad, bit_rock, xi};
 pub use contact::{NodeContact, wall_contact};
 pub use dynamics::{Dynamics, Effects, Observation};
 pub use run::{
-    IMPACT_SEPARATION, InitialState, RunOutput, RunSettings, STEPS_PER_PERIOD, SimulationError,
-    SolverStats, preloaded_equilibrium, resolving_step, run_problem, simulate, static_equilibrium,
+    IMPACT_SEPARATION, IMPACT_SPEED, InitialState, RunOutput, RunSettings, STEPS_PER_PERIOD,
+    SimulationError, SolverStats, preloaded_equilibrium, resolving_step, run_problem, simulate,
+    static_equilibrium,
 };
 pub use series::TimeSeries;
 
 /// Revision of the simulator's numerics, part of every cache key: bump it with any change that
 /// can move a simulated number (model, basis, start, integrator, metrics), so that results of
-/// older numerics are never reused. 2: basis per family with static corrections, pre-loaded start.
+/// older numerics are never reused. 2: basis per family with static corrections, pre-loaded start,
+/// step resolving the lowest torsional and axial modes, averaged bit speed, impacts by speed.
 pub const SIMULATOR_REVISION: u32 = 2;

@@ -7,7 +7,7 @@
 //! acceleration jumps) and coarsens again afterwards. A run that cannot go on (step below the
 //! minimum, non-finite state, divergence) stops with an error and keeps what it had recorded.
 
-use super::{Dynamics, Effects, Observation, TimeSeries};
+use super::{Dynamics, Effects, NodeContact, Observation, TimeSeries};
 use crate::fem::Dof;
 use crate::integrate::{
     DenseLu, ImplicitSystem, JacobianCoefficients, Newmark, NewmarkSettings, StepOutcome,
@@ -218,9 +218,33 @@ fn equilibrium(
 const STATIC_ITERATIONS: usize = 300;
 
 /// A node counts as having left the wall once its indentation is below −this × gap; its next
-/// contact is then an impact. Without this hysteresis, nodes resting on the wall chatter across
+/// contact may then be an impact. Without this hysteresis, nodes resting on the wall chatter across
 /// δ = 0 at sub-micrometre amplitude and every crossing would count as an impact.
 pub const IMPACT_SEPARATION: f64 = 0.01;
+
+/// Normal approach speed above which a touch-down counts as an impact, m/s. A node that lifts
+/// off by a tenth of a millimetre and settles back under gravity arrives at √(2 g · 0.1 mm) ≈
+/// 0.044 m/s; chatter of a resting node (sub-micrometre at a few hundred Hz) at ~1e-3 m/s. A
+/// touch-down slower than 1 cm/s transfers little momentum and is not counted.
+pub const IMPACT_SPEED: f64 = 0.01;
+
+/// Count the impacts of one recorded state and update each node's separation flag: a node
+/// that touches the wall after having left it (see [`IMPACT_SEPARATION`]) at a normal speed of
+/// at least [`IMPACT_SPEED`] makes one impact. `first`: the initial state, which counts none.
+fn count_impacts(separated: &mut [bool], contacts: &[NodeContact], gap: f64, first: bool) -> u64 {
+    let mut impacts = 0;
+    for (flag, c) in separated.iter_mut().zip(contacts) {
+        if c.active {
+            if *flag && !first && c.approach_speed >= IMPACT_SPEED {
+                impacts += 1;
+            }
+            *flag = false;
+        } else if c.indentation < -IMPACT_SEPARATION * gap {
+            *flag = true;
+        }
+    }
+    impacts
+}
 
 /// Accumulates the time history.
 struct Recorder {
@@ -243,16 +267,7 @@ impl Recorder {
     ) {
         let s = &mut self.series;
         let first = self.last.is_none();
-        for (node, c) in sys.contacts.iter().enumerate() {
-            if c.active {
-                if self.separated[node] && !first {
-                    self.onsets += 1;
-                }
-                self.separated[node] = false;
-            } else if c.indentation < -IMPACT_SEPARATION * self.gap {
-                self.separated[node] = true;
-            }
-        }
+        self.onsets += count_impacts(&mut self.separated, &sys.contacts, self.gap, first);
         let (work_top, work_bit, dissipated) = match (&self.last, s.t.last()) {
             (Some(prev), Some(&t0)) => {
                 let h = t - t0;
@@ -525,4 +540,62 @@ pub fn run_problem(
         InitialState::from(problem.simulation.start),
         progress,
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn touching(speed: f64) -> NodeContact {
+        NodeContact {
+            active: true,
+            indentation: 1e-7,
+            approach_speed: speed,
+            ..Default::default()
+        }
+    }
+
+    fn free(indentation: f64) -> NodeContact {
+        NodeContact {
+            indentation,
+            ..Default::default()
+        }
+    }
+
+    /// An impact needs a separation of more than 1 % of the gap first, then a touch-down at
+    /// 1 cm/s or more; chatter across δ = 0 and slow settling count nothing.
+    #[test]
+    fn impacts_need_a_separation_and_a_fast_touch_down() {
+        let gap = 0.01;
+        let mut separated = vec![false; 3];
+        // Initial state: node 0 resting, node 1 lifted, node 2 barely off the wall.
+        let start = [touching(0.0), free(-2e-4), free(-1e-6)];
+        assert_eq!(count_impacts(&mut separated, &start, gap, true), 0);
+        assert_eq!(separated, vec![false, true, false]);
+        // Node 1 lands at 5 cm/s: an impact; node 2 chatters back at 5 cm/s: not separated.
+        let next = [touching(0.0), touching(0.05), touching(0.05)];
+        assert_eq!(count_impacts(&mut separated, &next, gap, false), 1);
+        // Node 1 lifts off again and settles back at 1 mm/s: no impact.
+        count_impacts(
+            &mut separated,
+            &[touching(0.0), free(-5e-4), touching(0.0)],
+            gap,
+            false,
+        );
+        let slow = [touching(0.0), touching(0.001), touching(0.0)];
+        assert_eq!(count_impacts(&mut separated, &slow, gap, false), 0);
+        // At exactly the threshold it counts.
+        count_impacts(
+            &mut separated,
+            &[free(-5e-4), free(-5e-4), free(-5e-4)],
+            gap,
+            false,
+        );
+        let at = [
+            touching(IMPACT_SPEED),
+            touching(0.5 * IMPACT_SPEED),
+            touching(1.0),
+        ];
+        assert_eq!(count_impacts(&mut separated, &at, gap, false), 2);
+    }
 }
