@@ -54,7 +54,7 @@ fn benches(c: &mut Criterion) {
         };
         let mut nm = Newmark::new(settings, 0.5, q, v, DVector::zeros(n));
         assert!(nm.consistent_acceleration(&mut sys));
-        let h = 5e-5;
+        let h = 2e-4;
         c.bench_function(&format!("newmark_step_seed_{name}"), |b| {
             b.iter(|| {
                 let outcome = nm.attempt(black_box(&mut sys), h);

@@ -55,6 +55,8 @@ struct Summary<'a> {
     status: &'a str,
     error: Option<String>,
     metrics: Option<metrics::Metrics>,
+    /// 95 % batch-means intervals of the time-mean metrics (10 batches of the analysis window).
+    confidence_95: Option<std::collections::BTreeMap<&'static str, metrics::BatchInterval>>,
     metrics_error: Option<String>,
     solver: &'a SolverStats,
 }
@@ -75,28 +77,35 @@ pub(super) fn parse_override(
     }
 }
 
-pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
-    let problem = Problem::load(&args.problem)?;
+/// The operating point and duration of a one-point command: the problem's, or the overrides
+/// `--omega`, `--v0`, `--duration` (each with its unit, > 0).
+pub(super) fn point_and_duration(
+    problem: &Problem,
+    omega: &Option<String>,
+    v0: &Option<String>,
+    duration: &Option<String>,
+) -> anyhow::Result<(OperatingPoint, f64)> {
     let op = OperatingPoint {
         omega: parse_override(
-            &args.omega,
+            omega,
             "--omega",
             Dimension::AngularVelocity,
             problem.operating_point.omega,
         )?,
-        v0: parse_override(
-            &args.v0,
-            "--v0",
-            Dimension::Velocity,
-            problem.operating_point.v0,
-        )?,
+        v0: parse_override(v0, "--v0", Dimension::Velocity, problem.operating_point.v0)?,
     };
     let duration = parse_override(
-        &args.duration,
+        duration,
         "--duration",
         Dimension::Time,
         problem.simulation.duration,
     )?;
+    Ok((op, duration))
+}
+
+pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let problem = Problem::load(&args.problem)?;
+    let (op, duration) = point_and_duration(&problem, &args.omega, &args.v0, &args.duration)?;
     let out = args
         .out
         .clone()
@@ -125,6 +134,8 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         Ok(m) => (Some(m), None),
         Err(e) => (None, Some(e.to_string())),
     };
+    // A window too short to batch keeps its metrics and goes without intervals.
+    let confidence_95 = metrics::batch_means(&output.series, &config).ok();
     let summary = Summary {
         problem: &problem.name,
         problem_file: args.problem.display().to_string(),
@@ -144,6 +155,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         },
         error: output.error.as_ref().map(|e| e.to_string()),
         metrics,
+        confidence_95,
         metrics_error,
         solver: &output.stats,
     };
@@ -196,6 +208,19 @@ fn print_summary(s: &Summary, out: &Path) {
         );
     } else if let Some(e) = &s.metrics_error {
         println!("  metrics unavailable: {e}");
+    }
+    if let Some(ci) = &s.confidence_95 {
+        let (rop, stick, tob) = (
+            ci["mean_rop_m_per_h"],
+            ci["stick_fraction"],
+            ci["mean_tob_nm"],
+        );
+        println!(
+            "  95 % batch-means intervals: ROP ± {:.3} m/h | stick ± {:.1} % | TOB ± {:.3} kN·m",
+            rop.half_width,
+            100.0 * stick.half_width,
+            tob.half_width / 1e3
+        );
     }
     println!("  results in {}", out.display());
 }

@@ -1,9 +1,8 @@
 //! `drillopt verify PROBLEM [--omega] [--v0] [--duration S] [--json] [--quiet]`: solution
 //! verification of the decision metrics at one operating point (see [`crate::verify`]).
 
-use super::simulate::parse_override;
-use crate::model::OperatingPoint;
-use crate::problem::{Dimension, Problem};
+use super::simulate::point_and_duration;
+use crate::problem::Problem;
 use crate::verify::{self, Refinement, VerifyReport, VerifySettings};
 use anyhow::Context;
 use clap::Args;
@@ -36,26 +35,7 @@ pub struct VerifyArgs {
 
 pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
-    let op = OperatingPoint {
-        omega: parse_override(
-            &args.omega,
-            "--omega",
-            Dimension::AngularVelocity,
-            problem.operating_point.omega,
-        )?,
-        v0: parse_override(
-            &args.v0,
-            "--v0",
-            Dimension::Velocity,
-            problem.operating_point.v0,
-        )?,
-    };
-    let duration = parse_override(
-        &args.duration,
-        "--duration",
-        Dimension::Time,
-        problem.simulation.duration,
-    )?;
+    let (op, duration) = point_and_duration(&problem, &args.omega, &args.v0, &args.duration)?;
     let settings = VerifySettings {
         op,
         duration,

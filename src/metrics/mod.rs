@@ -22,6 +22,7 @@
 //! positive when the rock resists; `work_top` is the work done by the top drive on the string,
 //! `work_bit` the work done by the rock on the string (≤ 0 while drilling).
 
+mod batch_means;
 mod check;
 mod error;
 mod time_average;
@@ -29,6 +30,7 @@ mod time_average;
 #[cfg(test)]
 mod tests;
 
+pub use batch_means::{BATCHES, BatchInterval, batch_means};
 pub use error::MetricsError;
 
 use crate::sim::TimeSeries;

@@ -528,3 +528,23 @@ fn refuses_an_invalid_configuration() {
         );
     }
 }
+
+/// Batch means of a linear trend WOB = a + b t over [0, 10] s: batch j has mean a + b (j + ½),
+/// so the interval is centred on a + 5b with half-width t₀.₉₇₅,₉ · b · sd(0..9) / √10.
+#[test]
+fn batch_means_of_a_linear_trend() {
+    let n = 10_001;
+    let t: Vec<f64> = (0..n).map(|i| 10.0 * i as f64 / (n - 1) as f64).collect();
+    let mut s = steady(&t);
+    let (a, b) = (50e3, 1e3);
+    s.weight_on_bit = t.iter().map(|&t| a + b * t).collect();
+    let ci = super::batch_means(&s, &config(0.0)).unwrap();
+    let wob = ci["mean_wob_n"];
+    assert_relative_eq!(wob.mean, a + 5.0 * b, max_relative = 1e-9);
+    let sd = (0..10).map(|j| (j as f64 - 4.5).powi(2)).sum::<f64>() / 9.0;
+    let expected = 2.262_157 * b * sd.sqrt() / 10f64.sqrt();
+    assert_relative_eq!(wob.half_width, expected, max_relative = 1e-6);
+    // A steady channel has no width (round-off only).
+    let rop = ci["mean_rop_m_per_h"];
+    assert!(rop.half_width < 1e-12 * rop.mean, "{rop:?}");
+}

@@ -66,4 +66,32 @@ impl TimeSeries {
     pub fn is_empty(&self) -> bool {
         self.t.is_empty()
     }
+
+    /// The samples `range` of every channel (probe positions kept), as a new series.
+    pub fn slice(&self, range: std::ops::Range<usize>) -> TimeSeries {
+        let cut = |v: &Vec<f64>| v[range.clone()].to_vec();
+        TimeSeries {
+            t: cut(&self.t),
+            bit_displacement: cut(&self.bit_displacement),
+            bit_velocity: cut(&self.bit_velocity),
+            bit_rotation: cut(&self.bit_rotation),
+            bit_angular_velocity: cut(&self.bit_angular_velocity),
+            weight_on_bit: cut(&self.weight_on_bit),
+            torque_on_bit: cut(&self.torque_on_bit),
+            top_force: cut(&self.top_force),
+            top_torque: cut(&self.top_torque),
+            probe_positions: self.probe_positions.clone(),
+            probe_radial: self.probe_radial.iter().map(cut).collect(),
+            nodes_in_contact: self.nodes_in_contact[range.clone()].to_vec(),
+            contact_onsets: self.contact_onsets[range.clone()].to_vec(),
+            wall_force_total: cut(&self.wall_force_total),
+            wall_force_max: cut(&self.wall_force_max),
+            max_radial_over_gap: cut(&self.max_radial_over_gap),
+            kinetic_energy: cut(&self.kinetic_energy),
+            potential_energy: cut(&self.potential_energy),
+            work_top: cut(&self.work_top),
+            work_bit: cut(&self.work_bit),
+            dissipated: cut(&self.dissipated),
+        }
+    }
 }
