@@ -21,8 +21,11 @@ pub const BATCHES: usize = 10;
 /// Student's t quantile t₀.₉₇₅ with BATCHES − 1 = 9 degrees of freedom.
 const T_975_9: f64 = 2.262_157;
 
+/// A metric's `summary.json` key and how to read it.
+type Reader = (&'static str, fn(&Metrics) -> f64);
+
 /// The metrics that are time means or shares of time (the ones batch means apply to).
-const MEAN_METRICS: [(&str, fn(&Metrics) -> f64); 7] = [
+const MEAN_METRICS: [Reader; 7] = [
     ("mean_rop_m_per_h", |m| m.mean_rop_m_per_h),
     ("mean_wob_n", |m| m.mean_wob_n),
     ("mean_tob_nm", |m| m.mean_tob_nm),
