@@ -39,7 +39,11 @@ fn a_two_second_seed_window_drills_at_v0_from_the_preloaded_start() {
         out,
     ]);
     assert!(ok, "{stderr}");
-    assert!(stdout.contains("basis: 32 bending, 8 torsional, 4 axial, 2 static corrections"));
+    assert!(
+        stdout.contains(
+            "basis: 32 bending (both planes), 8 torsional, 4 axial, 2 static corrections"
+        )
+    );
     let s = summary(dir.path());
     let rop = s["metrics"]["mean_rop_m_per_h"].as_f64().unwrap();
     assert!(
@@ -71,7 +75,7 @@ fn the_long_collar_string_keeps_every_family_and_sticks_and_slips() {
     let (ok, stdout, stderr) = drillopt(&["modes", "problems/long_collars.toml", "--count", "51"]);
     assert!(ok, "{stderr}");
     assert!(
-        stdout.contains("51 bending, 0 torsional, 0 axial"),
+        stdout.contains("51 bending (both planes), 0 torsional, 0 axial"),
         "{stdout}"
     );
     let (ok, stdout, _) = drillopt(&["modes", "problems/long_collars.toml", "--json"]);
@@ -134,7 +138,7 @@ fn verify_reports_verdicts_that_follow_from_its_numbers() {
         let reported = v["max_rel_change"].as_f64().unwrap();
         assert!((reported - max).abs() <= 1e-12 * max.max(1.0), "{key}");
         let verdict = v["converged"].as_bool().unwrap();
-        assert_eq!(verdict, max <= v["tolerance"].as_f64().unwrap(), "{key}");
+        assert_eq!(verdict, max <= v["limit"].as_f64().unwrap(), "{key}");
         all &= verdict;
     }
     assert_eq!(all, converged);

@@ -177,7 +177,7 @@ fn the_seed_file_loads_with_the_exact_table_1_values() {
     assert_eq!(p.operating_point.v0, 1.0 / 720.0);
     assert_eq!(p.simulation.duration, 90.0);
     assert_eq!(p.simulation.time_step, 0.069);
-    assert_eq!(p.simulation.settling_time, 0.0);
+    assert_eq!(p.simulation.settling_time, 2.0);
     assert_eq!(p.simulation.probes, vec![20.0]);
 }
 
@@ -204,8 +204,8 @@ fn omitted_optional_keys_take_the_documented_defaults() {
         max_relative = 1e-14
     );
 
-    // settling_time and sign_smoothing are not in the seed file.
-    let p = accepted(SEED);
+    // settling_time and sign_smoothing have defaults.
+    let p = accepted(&remove("simulation", "settling_time"));
     assert_eq!(p.simulation.settling_time, 0.0);
     assert_eq!(p.model.wall.sign_smoothing, 1e-3);
 
@@ -221,7 +221,7 @@ fn omitted_optional_keys_take_the_documented_defaults() {
 
 #[test]
 fn optional_keys_when_given_are_read() {
-    let p = accepted(&insert("simulation", "settling_time", "\"10 s\""));
+    let p = accepted(&set("simulation", "settling_time", "\"10 s\""));
     assert_eq!(p.simulation.settling_time, 10.0);
     let p = accepted(&insert("model.wall", "sign_smoothing", "\"0.6 rpm\""));
     assert_relative_eq!(p.model.wall.sign_smoothing, 0.02 * PI, max_relative = 1e-14);
@@ -959,13 +959,13 @@ fn a_time_step_longer_than_the_duration_is_refused() {
 fn a_settling_time_not_shorter_than_the_duration_is_refused() {
     for v in ["\"90 s\"", "\"2 min\""] {
         refused(
-            &insert("simulation", "settling_time", v),
+            &set("simulation", "settling_time", v),
             "simulation.settling_time",
             &["shorter than simulation.duration"],
         );
     }
     refused(
-        &insert("simulation", "settling_time", "-1"),
+        &set("simulation", "settling_time", "-1"),
         "simulation.settling_time",
         &[">= 0"],
     );

@@ -15,7 +15,9 @@ pub struct ModesArgs {
     /// List this many lowest modes instead of the problem's basis.
     #[arg(long)]
     pub count: Option<usize>,
-    /// Print JSON {"dof", "modes": [{"index", "freq_hz", "family"}]} instead of a table.
+    /// Print JSON {"problem", "dof", "free_dof", "basis": {"bending", "torsional", "axial",
+    /// "static_corrections"}, "modes": [{"index", "freq_hz", "family", "kind"}]} instead of a
+    /// table (kind: "mode" or "static_correction").
     #[arg(long)]
     pub json: bool,
 }
@@ -57,11 +59,16 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         println!(
-            "{}: {} elements, {} DOF ({} free); basis of {} vectors: {}",
+            "{}: {} elements, {} DOF ({} free); {} of {} vectors: {}",
             problem.name,
             elements,
             report.dof,
             report.free_dof,
+            if args.count.is_some() {
+                "the lowest modes (--count, not the problem's basis)"
+            } else {
+                "the problem's basis"
+            },
             basis.len(),
             report.basis
         );

@@ -49,8 +49,17 @@ struct Summary<'a> {
     version: &'a str,
     operating_point: OperatingPointJson,
     duration_s: f64,
+    /// Start of the analysis window (the problem's settling time, at most half the run), s.
+    settling_time_s: f64,
+    /// "preloaded" or "unloaded".
+    start: &'a str,
+    elements: usize,
     /// Vectors of the reduced basis by family.
     basis: crate::rom::BasisCounts,
+    /// The problem's nominal step and the largest step the run allowed (capped at 1/20 of the
+    /// lowest torsional and axial periods), s.
+    nominal_step_s: f64,
+    max_step_s: f64,
     /// "completed", or "failed" with `error` saying when and why (what was computed is kept).
     status: &'a str,
     error: Option<String>,
@@ -147,7 +156,12 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             v0_m_per_h: op.v0 * 3600.0,
         },
         duration_s: duration,
+        settling_time_s: settling,
+        start: problem.simulation.start.name(),
+        elements: problem.mesh.elements,
         basis: output.basis,
+        nominal_step_s: problem.simulation.time_step,
+        max_step_s: output.max_step,
         status: if output.error.is_none() {
             "completed"
         } else {
@@ -193,7 +207,17 @@ fn print_summary(s: &Summary, out: &Path) {
         st.rejected_steps,
         st.min_dt
     );
-    println!("  basis: {}", s.basis);
+    println!(
+        "  {} start, {} elements, basis: {}",
+        s.start, s.elements, s.basis
+    );
+    if s.max_step_s < s.nominal_step_s {
+        println!(
+            "  step at most {:.3} ms (the nominal {:.3} ms capped at 1/20 of the lowest torsional/axial period)",
+            1e3 * s.max_step_s,
+            1e3 * s.nominal_step_s
+        );
+    }
     if let Some(m) = &s.metrics {
         println!(
             "  ROP {:.3} m/h | SSI {:.2} | stick {:.1}% | bounce {:.1}% | impacts {:.2}/s | WOB {:.1} kN | TOB {:.2} kN·m | energy residual {:.1e}",

@@ -96,13 +96,16 @@ struct SolutionJson<'a> {
 /// parameters) against the statistical spread over the Monte Carlo samples.
 #[derive(Serialize)]
 struct CheckedMetric {
-    nominal: f64,
+    /// The nominal model's value with the problem's basis.
+    value: f64,
+    /// The same with every family of the basis enriched 1.5×.
     refined_basis: f64,
+    /// |refined − value| / max(|value|, floor), as in `verify`.
     rel_change: f64,
-    tolerance: f64,
+    limit: f64,
     converged: bool,
-    /// Standard deviation of the metric over the samples at the optimum (0 with one sample).
-    sample_std_dev: f64,
+    /// Standard deviation of the metric over the samples at the optimum (none with one sample).
+    sample_std_dev: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -139,10 +142,10 @@ fn numerical_check(
             .collect();
         let n = values.len() as f64;
         if n < 2.0 {
-            return 0.0;
+            return None;
         }
         let mean = values.iter().sum::<f64>() / n;
-        (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+        Some((values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt())
     };
     let metrics = report
         .metrics
@@ -151,10 +154,10 @@ fn numerical_check(
             (
                 key,
                 CheckedMetric {
-                    nominal: v.value,
+                    value: v.value,
                     refined_basis: v.refined[Refinement::Basis.name()],
                     rel_change: v.max_rel_change,
-                    tolerance: v.tolerance,
+                    limit: v.limit,
                     converged: v.converged,
                     sample_std_dev: spread(key),
                 },
@@ -347,16 +350,17 @@ fn print_check(c: &NumericalCheckJson) {
     );
     println!(
         "  {:<22} {:>12} {:>12} {:>9} {:>6} {:>14}",
-        "metric", "nominal", "refined", "change", "tol", "sample std dev"
+        "metric", "nominal", "refined", "change", "limit", "sample std dev"
     );
     for (key, m) in &c.metrics {
         println!(
-            "  {key:<22} {:>12.6} {:>12.6} {:>8.2}% {:>5.0}% {:>14.6}",
-            m.nominal,
-            m.refined_basis,
+            "  {key:<22} {:>12} {:>12} {:>8.2}% {:>5.0}% {:>14}",
+            super::verify::significant(m.value),
+            super::verify::significant(m.refined_basis),
             100.0 * m.rel_change,
-            100.0 * m.tolerance,
+            100.0 * m.limit,
             m.sample_std_dev
+                .map_or("n/a (1 sample)".to_string(), super::verify::significant)
         );
     }
 }

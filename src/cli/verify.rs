@@ -24,8 +24,12 @@ pub struct VerifyArgs {
     #[arg(long)]
     pub duration: Option<String>,
     /// Print the report as JSON: {"metrics": {KEY: {"value", "refined": {"basis", "mesh",
-    /// "tolerance", "window"}, "max_rel_change", "converged", …}}, "converged", "basis",
-    /// "refined_basis", "runs"}.
+    /// "tolerance", "window"}, "max_rel_change", "limit", "floor", "converged", …}},
+    /// "converged", "basis", "refined_basis", "runs"}. The relative change of a refined value r
+    /// is |r − value| / max(|value|, floor), the floor keeping a metric near 0 from turning
+    /// round-off into a large change; the columns of the table are the refined runs ("tolerance":
+    /// integrator tolerances ÷4), "limit" the largest change accepted. A `reduced_modes = N`
+    /// basis is refined to the ⌈1.5 N⌉ lowest modes.
     #[arg(long)]
     pub json: bool,
     /// No progress messages.
@@ -77,9 +81,11 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
             .iter()
             .filter(|(_, v)| !v.converged)
             .map(|(k, v)| format!(
-                "{k} ({:.1} % under {} refinement)",
+                "{k} (up to {:.1} %, beyond {:.0} % under the {} refinement{})",
                 100.0 * v.max_rel_change,
-                v.worst
+                100.0 * v.limit,
+                v.beyond_limit.join(", "),
+                if v.beyond_limit.len() > 1 { "s" } else { "" }
             ))
             .collect::<Vec<_>>()
             .join(", ")
@@ -88,7 +94,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
 }
 
 /// Six significant digits, in exponent form outside [1e-3, 1e6).
-fn significant(x: f64) -> String {
+pub(super) fn significant(x: f64) -> String {
     if x != 0.0 && !(1e-3..1e6).contains(&x.abs()) {
         format!("{x:.5e}")
     } else {
@@ -110,7 +116,7 @@ fn print_table(r: &VerifyReport, s: &VerifySettings) {
     for refinement in Refinement::ALL {
         print!(" {:>12}", refinement.name());
     }
-    println!(" {:>9} {:>6}  verdict", "max chg", "tol");
+    println!(" {:>9} {:>6}  verdict", "max chg", "limit");
     for (key, v) in &r.metrics {
         print!("{key:<22} {:>12}", significant(v.value));
         for refinement in Refinement::ALL {
@@ -119,7 +125,7 @@ fn print_table(r: &VerifyReport, s: &VerifySettings) {
         println!(
             " {:>8.2}% {:>5.0}%  {}",
             100.0 * v.max_rel_change,
-            100.0 * v.tolerance,
+            100.0 * v.limit,
             if v.converged {
                 "converged"
             } else {

@@ -354,7 +354,17 @@ fn family_size(
                 ))
             }
         }
-        RawQuantity::Text(_) => {
+        RawQuantity::Text(text) => {
+            // A count is an integer; a string is a cutoff and must say so with its unit.
+            if text.trim().parse::<f64>().is_ok() {
+                return Err(c.fail(
+                    key,
+                    format!(
+                        "a cutoff frequency needs its unit (\"{} Hz\"); a mode count is written without quotes, got \"{text}\"",
+                        text.trim()
+                    ),
+                ));
+            }
             let hz = c.value(key, raw, Dimension::Frequency)?;
             c.check(
                 key,

@@ -59,7 +59,8 @@ impl Family {
 
 impl fmt::Display for Family {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        // pad, not write_str: table columns set a width.
+        f.pad(self.name())
     }
 }
 
@@ -68,6 +69,7 @@ impl fmt::Display for Family {
 #[serde(rename_all = "snake_case")]
 pub enum ModeKind {
     /// An eigenvector of (K, M).
+    #[serde(rename = "mode")]
     Normal,
     /// The static response to a unit bit load, M-orthogonalised against the kept normal modes
     /// (a Ritz vector: K- and M-orthogonal to them, with its Rayleigh quotient as ω²).
@@ -92,7 +94,8 @@ pub struct Mode {
 }
 
 /// How many vectors of each family a basis holds: what `modes`, `simulate` and `summary.json`
-/// report as `"basis"`. Bending counts both planes.
+/// report as `"basis"`. `bending` counts both planes (a problem file's `bending = 16` is per
+/// plane: 32 here).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
 pub struct BasisCounts {
     pub bending: usize,
@@ -105,8 +108,16 @@ impl fmt::Display for BasisCounts {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "{} bending, {} torsional, {} axial, {} static corrections",
-            self.bending, self.torsional, self.axial, self.static_corrections
+            "{} bending (both planes), {} torsional, {} axial, {} static correction{}",
+            self.bending,
+            self.torsional,
+            self.axial,
+            self.static_corrections,
+            if self.static_corrections == 1 {
+                ""
+            } else {
+                "s"
+            }
         )
     }
 }

@@ -119,6 +119,8 @@ pub struct RunOutput {
     pub final_state: (DVector<f64>, DVector<f64>),
     /// The reduced basis the run used.
     pub basis: crate::rom::BasisCounts,
+    /// The largest step allowed: the nominal step, or less (see [`resolving_step`]), s.
+    pub max_step: f64,
 }
 
 /// Static equilibrium under gravity with wall contact (no motion, no bit): Newton on ∂r/∂q with
@@ -430,6 +432,7 @@ pub fn simulate(
                 error: Some(e),
                 final_state: (z.clone(), z),
                 basis: model.basis.counts(),
+                max_step: settings.max_step.min(resolving_step(model)),
             };
         }
     };
@@ -518,6 +521,7 @@ pub fn simulate(
         error,
         final_state: (nm.q.clone(), nm.v.clone()),
         basis: model.basis.counts(),
+        max_step,
     }
 }
 

@@ -133,7 +133,8 @@ impl Refinement {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MetricVerdict {
     pub class: MetricClass,
-    pub tolerance: f64,
+    /// Largest relative change accepted (0.02 for means, 0.10 for stick-slip statistics).
+    pub limit: f64,
     /// Denominator floor of the relative change, in the metric's unit.
     pub floor: f64,
     /// The base run's value.
@@ -144,6 +145,8 @@ pub struct MetricVerdict {
     pub max_rel_change: f64,
     /// The refinement that moved it most.
     pub worst: &'static str,
+    /// Every refinement that moved it beyond `limit`.
+    pub beyond_limit: Vec<&'static str>,
     pub converged: bool,
 }
 
@@ -267,6 +270,7 @@ pub fn verify_with(
         let value = (d.get)(base_metrics);
         let mut refined = BTreeMap::new();
         let (mut max_rel_change, mut worst) = (0.0_f64, "none");
+        let mut beyond_limit = Vec::new();
         for (run, m) in &results[1..] {
             let r = (d.get)(m);
             refined.insert(run.name, r);
@@ -276,17 +280,21 @@ pub fn verify_with(
                 max_rel_change = change;
                 worst = run.name;
             }
+            if change.is_nan() || change > d.class.tolerance() {
+                beyond_limit.push(run.name);
+            }
         }
         verdicts.insert(
             d.key,
             MetricVerdict {
                 class: d.class,
-                tolerance: d.class.tolerance(),
+                limit: d.class.tolerance(),
                 floor: d.floor,
                 value,
                 refined,
                 max_rel_change,
                 worst,
+                beyond_limit,
                 converged: max_rel_change <= d.class.tolerance(),
             },
         );
