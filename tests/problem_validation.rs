@@ -312,6 +312,9 @@ fn a_missing_file_is_refused_naming_the_file() {
     let msg = err.to_string();
     assert!(msg.contains(&path.display().to_string()), "{msg}");
     assert!(msg.contains("cannot read"), "{msg}");
+    // As the binary prints it (the whole error chain): the OS error once, not twice.
+    let chain = format!("{:#}", anyhow::Error::from(err));
+    assert_eq!(chain.matches("os error 2").count(), 1, "{chain}");
 }
 
 #[test]

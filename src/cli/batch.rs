@@ -112,34 +112,40 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
             Some(root) => root.join(&problem.name),
             None => Path::new("results").join(&problem.name).join("batch"),
         };
-        let verdict =
-            match super::solve::solve_and_report(&problem, file, &out, args.resume, args.quiet) {
-                Err(e) => Verdict {
+        let verdict = match super::solve::solve_and_report(
+            &problem,
+            file,
+            &out,
+            args.resume,
+            args.quiet,
+            !args.quiet,
+        ) {
+            Err(e) => Verdict {
+                problem: problem.name.clone(),
+                pass: false,
+                detail: format!("error: {e:#}"),
+            },
+            Ok(outcome) => match outcome.best {
+                None => Verdict {
                     problem: problem.name.clone(),
                     pass: false,
-                    detail: format!("error: {e:#}"),
+                    detail: "no feasible point".into(),
                 },
-                Ok(outcome) => match outcome.best {
-                    None => Verdict {
+                Some(b) => {
+                    let (pass, detail) = check(
+                        &expect,
+                        b.omega_rad_s,
+                        b.v0_m_s,
+                        b.objective.unwrap_or(f64::NAN),
+                    );
+                    Verdict {
                         problem: problem.name.clone(),
-                        pass: false,
-                        detail: "no feasible point".into(),
-                    },
-                    Some(b) => {
-                        let (pass, detail) = check(
-                            &expect,
-                            b.omega_rad_s,
-                            b.v0_m_s,
-                            b.objective.unwrap_or(f64::NAN),
-                        );
-                        Verdict {
-                            problem: problem.name.clone(),
-                            pass,
-                            detail,
-                        }
+                        pass,
+                        detail,
                     }
-                },
-            };
+                }
+            },
+        };
         verdicts.push(verdict);
     }
     println!("{:30} {:6} detail", "problem", "result");

@@ -23,7 +23,8 @@ pub struct SolveArgs {
     /// Continue an interrupted run: reuse every finished simulation of the evaluation cache.
     #[arg(long)]
     pub resume: bool,
-    /// No progress bar.
+    /// No progress bar or progress messages (the result table and the numerical check are
+    /// still printed).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -211,13 +212,15 @@ pub(super) fn evaluation_json(p: &PointEvaluation) -> EvaluationJson {
     }
 }
 
-/// Run the optimisation and write its report; returns the outcome for `batch`.
+/// Run the optimisation and write its report; returns the outcome for `batch`. `quiet`: no
+/// progress; `print`: the result table and the numerical check on the terminal.
 pub fn solve_and_report(
     problem: &Problem,
     problem_file: &Path,
     out: &Path,
     resume: bool,
     quiet: bool,
+    print: bool,
 ) -> anyhow::Result<SolveOutcome> {
     let clock = Instant::now();
     let cache = study::open_cache(out, resume)?;
@@ -250,7 +253,7 @@ pub fn solve_and_report(
     };
     let work = WorkJson::of(&ev, clock.elapsed().as_secs_f64());
     write_report(problem, problem_file, out, &outcome, work, check.as_ref())?;
-    if !quiet {
+    if print {
         print_summary(problem, out, &outcome, &ev);
         if let Some(c) = &check {
             print_check(c);
@@ -368,7 +371,7 @@ fn print_check(c: &NumericalCheckJson) {
 pub fn run(args: &SolveArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let out = study::out_dir(&args.out, &problem, "solve");
-    let outcome = solve_and_report(&problem, &args.problem, &out, args.resume, args.quiet)?;
+    let outcome = solve_and_report(&problem, &args.problem, &out, args.resume, args.quiet, true)?;
     anyhow::ensure!(
         outcome.best.is_some(),
         "no feasible operating point was found; see {}",

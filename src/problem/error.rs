@@ -3,10 +3,12 @@ use std::path::PathBuf;
 /// Why a problem file was refused. Each variant names the file; `Invalid` names the key.
 #[derive(Debug, thiserror::Error)]
 pub enum ProblemError {
-    #[error("{}: cannot read the problem file: {source}", file.display())]
+    // `error`, not `source`: the message already says it, and a source would be printed twice
+    // by the binary's error chain.
+    #[error("{}: cannot read the problem file: {error}", file.display())]
     Io {
         file: PathBuf,
-        source: std::io::Error,
+        error: std::io::Error,
     },
     #[error("{}:{line}:{column}: not valid TOML: {message}", file.display())]
     Syntax {

@@ -38,9 +38,9 @@ impl Problem {
     /// Read and validate a problem file.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, ProblemError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
+        let text = std::fs::read_to_string(path).map_err(|error| ProblemError::Io {
             file: path.to_path_buf(),
-            source,
+            error,
         })?;
         Self::from_toml(&text, path)
     }
