@@ -16,7 +16,8 @@ use std::time::Instant;
 #[derive(Debug, Args)]
 pub struct CompareArgs {
     pub problem: PathBuf,
-    /// An operating point "OMEGA,V0" with units, e.g. 60rpm,5m/h (repeat the flag).
+    /// An operating point "OMEGA,V0", each with its unit, e.g. 60rpm,5m/h (repeat the flag);
+    /// points outside the problem's constraints are evaluated and reported infeasible.
     #[arg(long = "point", required = true)]
     pub points: Vec<String>,
     #[arg(long)]
@@ -31,6 +32,13 @@ pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
     let (w, v) = text
         .split_once(',')
         .with_context(|| format!("--point {text}: expected OMEGA,V0 such as 60rpm,5m/h"))?;
+    for (part, example) in [(w, "60rpm"), (v, "5m/h")] {
+        anyhow::ensure!(
+            part.trim().parse::<f64>().is_err(),
+            "--point {text}: `{}` has no unit; write it with one, e.g. {example} (rpm, rad/s, rev/s, Hz; m/h, m/s, mm/s, m/min, ft/h)",
+            part.trim()
+        );
+    }
     let omega = Dimension::AngularVelocity
         .parse(w.trim())
         .with_context(|| format!("--point {text}: rotation speed"))?;
@@ -114,5 +122,9 @@ mod tests {
         assert!(super::parse_point("60rpm").is_err());
         assert!(super::parse_point("60rpm,-5m/h").is_err());
         assert!(super::parse_point("60 furlongs,5m/h").is_err());
+        // Bare numbers would be rad/s and m/s (60 → 573 rpm, 5 → 18 000 m/h): refused.
+        let err = super::parse_point("60,5").unwrap_err().to_string();
+        assert!(err.contains("no unit"), "{err}");
+        assert!(super::parse_point("60rpm,5").is_err());
     }
 }

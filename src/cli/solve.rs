@@ -80,7 +80,8 @@ struct SolutionJson<'a> {
     samples: usize,
     method: &'a str,
     termination: &'a str,
-    status: &'a str,
+    /// converged | grid_complete | budget_exhausted | iteration_limit | no_feasible_point.
+    status: crate::solve::SolveStatus,
     optimum: Option<PointJson>,
     objective: Option<ObjectiveJson>,
     metrics: Option<BTreeMap<String, f64>>,
@@ -288,11 +289,7 @@ fn write_report(
         samples: study_.samples,
         method: outcome.method.name(),
         termination: &outcome.termination,
-        status: if best.is_some() {
-            "solved"
-        } else {
-            "no feasible point"
-        },
+        status: outcome.status,
         optimum: best.map(PointJson::of),
         objective: best.map(|b| ObjectiveJson {
             score: b.objective.expect("best is scored"),
@@ -332,11 +329,15 @@ fn print_summary(
         outcome.termination
     );
     study::print_table(&outcome.evaluations);
-    study::print_best(
-        outcome.best.as_ref(),
-        "optimum",
-        "no feasible point was found",
-    );
+    let label = if outcome.status.is_optimum() {
+        "optimum".to_string()
+    } else {
+        format!(
+            "best point found, NOT an optimum ({})",
+            outcome.status.text()
+        )
+    };
+    study::print_best(outcome.best.as_ref(), &label, "no feasible point was found");
     println!("  results in {}", out.display());
 }
 

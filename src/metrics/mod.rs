@@ -196,6 +196,35 @@ pub struct Metrics {
     pub energy_balance_residual: f64,
 }
 
+impl Metrics {
+    /// Every metric with its `summary.json` key, values as they are (±∞ and NaN included: a
+    /// JSON round trip would turn them into null).
+    pub fn named_values(&self) -> [(&'static str, f64); 17] {
+        [
+            ("mean_rop_m_s", self.mean_rop_m_s),
+            ("mean_rop_m_per_h", self.mean_rop_m_per_h),
+            ("stick_slip_severity", self.stick_slip_severity),
+            ("stick_fraction", self.stick_fraction),
+            ("max_bit_speed_ratio", self.max_bit_speed_ratio),
+            ("bit_bounce_fraction", self.bit_bounce_fraction),
+            (
+                "axial_velocity_fluctuation",
+                self.axial_velocity_fluctuation,
+            ),
+            ("impacts_per_s", self.impacts_per_s),
+            ("peak_wall_force_n", self.peak_wall_force_n),
+            ("contact_impulse_ns", self.contact_impulse_ns),
+            ("max_radial_over_gap", self.max_radial_over_gap),
+            ("mean_wob_n", self.mean_wob_n),
+            ("mean_tob_nm", self.mean_tob_nm),
+            ("mse_pa", self.mse_pa),
+            ("efficiency", self.efficiency),
+            ("axial_power_share", self.axial_power_share),
+            ("energy_balance_residual", self.energy_balance_residual),
+        ]
+    }
+}
+
 /// Compute the metrics of `series` (see [`Metrics`] for the definitions). Refuses an invalid
 /// configuration, an empty or inconsistent series (unequal channel lengths, non-finite samples,
 /// times not strictly increasing) and an analysis window with fewer than two samples.

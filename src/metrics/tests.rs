@@ -548,3 +548,30 @@ fn batch_means_of_a_linear_trend() {
     let rop = ci["mean_rop_m_per_h"];
     assert!(rop.half_width < 1e-12 * rop.mean, "{rop:?}");
 }
+
+/// `named_values` lists every field under its serde name, in order, and keeps ±∞.
+#[test]
+fn named_values_match_the_serialised_keys_and_keep_infinity() {
+    let t = [0.0, 1.0, 2.0];
+    let mut s = steady(&t);
+    s.bit_displacement = vec![0.0; 3]; // no progress: MSE = +∞
+    let m = compute(&s, &config(0.0)).unwrap();
+    assert_eq!(m.mse_pa, f64::INFINITY);
+    let json = serde_json::to_value(&m).unwrap();
+    let keys: Vec<&str> = json
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(|k| k.as_str())
+        .collect();
+    let named = m.named_values();
+    let mut names: Vec<&str> = named.iter().map(|(k, _)| *k).collect();
+    names.sort();
+    let mut sorted = keys.clone();
+    sorted.sort();
+    assert_eq!(names, sorted);
+    let mse = named.iter().find(|(k, _)| *k == "mse_pa").unwrap().1;
+    assert_eq!(mse, f64::INFINITY);
+    let map = crate::objective::robust::metric_map(&m);
+    assert_eq!(map["mse_pa"], f64::INFINITY);
+}

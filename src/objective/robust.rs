@@ -321,18 +321,70 @@ fn from_cache(o: Outcome) -> SampleOutcome {
     }
 }
 
-/// Metric name → value, from the serialised [`metrics::Metrics`] (its field names are the keys).
+/// Metric name → value (the keys of `summary.json`), non-finite values kept: an MSE of +∞ (the
+/// bit did not advance) is a risk of +∞, not a NaN.
 pub fn metric_map(m: &metrics::Metrics) -> BTreeMap<String, f64> {
-    let value = serde_json::to_value(m).expect("metrics serialise");
-    value
-        .as_object()
-        .expect("metrics are a struct")
-        .iter()
-        .map(|(k, v)| (k.clone(), v.as_f64().unwrap_or(f64::NAN)))
+    m.named_values()
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
         .collect()
 }
 
+/// Relative slack allowed on the bounds and linear constraints: an optimizer's point on an
+/// active constraint may miss it by round-off.
+const CONSTRAINT_SLACK: f64 = 1e-9;
+
+/// The bounds and linear constraints that `op` violates, each said in driller units.
+pub fn deterministic_violations(
+    k: &crate::problem::study::Constraints,
+    op: OperatingPoint,
+) -> Vec<String> {
+    let rpm = 30.0 / std::f64::consts::PI;
+    let mut out = Vec::new();
+    let outside = |x: f64, [lo, hi]: [f64; 2]| {
+        x < lo - CONSTRAINT_SLACK * lo.abs() || x > hi + CONSTRAINT_SLACK * hi.abs()
+    };
+    if outside(op.omega, k.omega) {
+        out.push(format!(
+            "Ω = {:.1} rpm is outside the bounds [{:.1}, {:.1}] rpm",
+            op.omega * rpm,
+            k.omega[0] * rpm,
+            k.omega[1] * rpm
+        ));
+    }
+    if outside(op.v0, k.v0) {
+        out.push(format!(
+            "V0 = {:.2} m/h is outside the bounds [{:.2}, {:.2}] m/h",
+            op.v0 * 3600.0,
+            k.v0[0] * 3600.0,
+            k.v0[1] * 3600.0
+        ));
+    }
+    for l in &k.linear {
+        let value = l.omega * op.omega + l.v0 * op.v0;
+        let scale = (l.omega * op.omega).abs() + (l.v0 * op.v0).abs() + l.upper.abs();
+        if value > l.upper + CONSTRAINT_SLACK * scale {
+            out.push(if l.label == "max_depth_of_cut" {
+                // 2π V0 − d Ω ≤ 0: say it as the depth of cut per revolution.
+                format!(
+                    "the depth of cut 2π V0/Ω = {:.3} mm exceeds max_depth_of_cut = {:.3} mm",
+                    1e3 * 2.0 * std::f64::consts::PI * op.v0 / op.omega,
+                    -1e3 * l.omega
+                )
+            } else {
+                format!(
+                    "the linear constraint {:.6e} Ω + {:.6e} V0 ≤ {:.6e} (SI) is violated: {value:.6e}",
+                    l.omega, l.v0, l.upper
+                )
+            });
+        }
+    }
+    out
+}
+
 /// The score of a point from its samples (see [`crate::problem::study`] for the conventions).
+/// A point is feasible when it meets the bounds, the linear constraints and the chance
+/// constraints; an infeasible point keeps its score and says why in `failure`.
 pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> PointEvaluation {
     let mut eval = PointEvaluation {
         omega_rad_s: op.omega,
@@ -414,17 +466,78 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
             });
         }
     }
+    let mut reasons = Vec::new();
+    if !feasible {
+        reasons.push("a chance constraint is violated".to_string());
+    }
+    if let Some(k) = &study.constraints {
+        let violated = deterministic_violations(k, op);
+        feasible &= violated.is_empty();
+        reasons.extend(violated);
+    }
     if !score.is_finite() {
         eval.failure = Some(format!("the score is not finite ({score})"));
         eval.samples = samples;
         return eval;
     }
-    if !feasible {
-        eval.failure = Some("a chance constraint is violated".into());
+    if !reasons.is_empty() {
+        eval.failure = Some(reasons.join("; "));
     }
     eval.quantity = Some(quantity);
     eval.objective = Some(score);
     eval.feasible = feasible;
     eval.samples = samples;
     eval
+}
+
+#[cfg(test)]
+mod constraint_tests {
+    use super::*;
+    use crate::problem::study::{Constraints, LinearConstraint};
+    use std::f64::consts::PI;
+
+    fn tiny_constraints() -> Constraints {
+        let rpm = PI / 30.0;
+        Constraints {
+            omega: [30.0 * rpm, 150.0 * rpm],
+            v0: [2.0 / 3600.0, 20.0 / 3600.0],
+            linear: vec![LinearConstraint {
+                omega: -3e-3,
+                v0: 2.0 * PI,
+                upper: 0.0,
+                label: "max_depth_of_cut",
+            }],
+            chance: Vec::new(),
+        }
+    }
+
+    fn at(rpm: f64, m_per_h: f64) -> OperatingPoint {
+        OperatingPoint {
+            omega: rpm * PI / 30.0,
+            v0: m_per_h / 3600.0,
+        }
+    }
+
+    #[test]
+    fn bounds_and_linear_constraints_decide_feasibility() {
+        let k = tiny_constraints();
+        let v = deterministic_violations(&k, at(200.0, 30.0));
+        assert_eq!(v.len(), 2, "{v:?}");
+        assert!(
+            v[0].contains("200.0 rpm") && v[1].contains("30.00 m/h"),
+            "{v:?}"
+        );
+        // 30 rpm at 20 m/h cuts 2π V0/Ω = 11.1 mm per revolution.
+        let v = deterministic_violations(&k, at(30.0, 20.0));
+        assert_eq!(v.len(), 1);
+        assert!(v[0].contains("11.111 mm"), "{v:?}");
+        // The vertex Ω = 2π V0 / 3 mm = 111.1 rpm is feasible; 0.1 % below it is not.
+        let vertex = 2.0 * PI * (20.0 / 3600.0) / 3e-3 * 30.0 / PI;
+        assert!(deterministic_violations(&k, at(vertex, 20.0)).is_empty());
+        assert_eq!(
+            deterministic_violations(&k, at(0.999 * vertex, 20.0)).len(),
+            1
+        );
+        assert!(deterministic_violations(&k, at(60.0, 5.0)).is_empty());
+    }
 }

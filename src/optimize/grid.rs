@@ -8,6 +8,7 @@ use super::evaluation::{BlackBox, Evaluation};
 use super::feasible::FeasibleSet;
 use super::nelder_mead::finish;
 use super::observer::Iterate;
+use super::result::Stop;
 use super::{OptimizeError, OptimizeResult};
 
 /// Evaluates the grid and returns every point (`history`) and the best one.
@@ -48,6 +49,7 @@ pub fn grid_search<B: BlackBox + ?Sized>(
         history,
         Vec::new(),
         format!("grid of {n_points} points evaluated"),
+        Stop::GridComplete,
         m,
         constraint_tol,
         &fallback,

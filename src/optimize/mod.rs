@@ -37,7 +37,7 @@ pub use nelder_mead::{NelderMeadOptions, minimize_nelder_mead};
 pub use observer::{Iterate, IterateCallback, PathLog, PathObserver};
 pub use penalized::FAILURE_COST;
 pub use pso::{SwarmOptions, minimize_particle_swarm};
-pub use result::OptimizeResult;
+pub use result::{OptimizeResult, Stop};
 pub use trust_region::{
     BlackBoxProblem, TrustRegion, TrustRegionOptions, TrustRegionState, minimize_trust_region,
 };

@@ -14,6 +14,7 @@
 //! after `max_restarts`, or when the evaluation budget is spent. The result is the best
 //! evaluation of the history in the feasibility-first order.
 
+use crate::optimize::Stop;
 use std::sync::{Arc, Mutex};
 
 use argmin::core::{
@@ -306,6 +307,7 @@ pub fn minimize_nelder_mead<B: BlackBox + ?Sized>(
     let shared = SharedCallback(Arc::new(Mutex::new(callback)));
     let mut best_prev = f64::INFINITY;
     let mut termination = String::from("no run");
+    let mut stop = Stop::IterationLimit;
     for run in 0..=opts.max_restarts {
         let problem = PenalizedProblem {
             bb,
@@ -329,18 +331,22 @@ pub fn minimize_nelder_mead<B: BlackBox + ?Sized>(
         if let Some(p) = state.get_best_param() {
             start = set.project(p)?;
         }
-        let reason = state
-            .get_termination_reason()
-            .map(|r| r.text().to_string())
-            .unwrap_or_default();
+        let reason = state.get_termination_reason();
+        stop = match reason {
+            Some(TerminationReason::SolverConverged) => Stop::Converged,
+            _ => Stop::IterationLimit,
+        };
+        let reason = reason.map(|r| r.text().to_string()).unwrap_or_default();
         let spent = log.lock().map(|l| l.budget_hit).unwrap_or(true);
         termination = format!("run {run}: {reason}");
         if spent || log.lock().map(|l| l.history.len()).unwrap_or(0) >= opts.max_evaluations {
             termination = format!("run {run}: evaluation budget exhausted");
+            stop = Stop::BudgetExhausted;
             break;
         }
         if run > 0 && best_prev - best_cost <= opts.ftol * (1.0 + best_cost.abs()) {
             termination = format!("run {run}: restart gave no improvement (converged)");
+            stop = Stop::Converged;
             break;
         }
         best_prev = best_prev.min(best_cost);
@@ -350,6 +356,7 @@ pub fn minimize_nelder_mead<B: BlackBox + ?Sized>(
         log.history,
         take_path(&path),
         termination,
+        stop,
         bb.n_constraints(),
         opts.constraint_tol,
         &start,
@@ -361,6 +368,7 @@ pub(crate) fn finish(
     history: Vec<(Vec<f64>, Evaluation)>,
     path: Vec<super::Iterate>,
     termination: String,
+    stop: Stop,
     m: usize,
     tol: f64,
     fallback: &[f64],
@@ -369,6 +377,11 @@ pub(crate) fn finish(
         Some(i) => history[i].clone(),
         None => (fallback.to_vec(), Evaluation::failure(m)),
     };
+    let stop = if history.iter().all(|(_, e)| e.failed) {
+        Stop::AllFailed
+    } else {
+        stop
+    };
     Ok(OptimizeResult {
         x,
         evaluation,
@@ -376,6 +389,7 @@ pub(crate) fn finish(
         history,
         path,
         termination,
+        stop,
     })
 }
 

@@ -9,6 +9,7 @@
 //! from a rand 0.9 `SmallRng` seeded with [`SwarmOptions::seed`], so a run is reproducible. Each
 //! generation is evaluated with one [`BlackBox::evaluate_batch`] (parallel if the black box is).
 
+use crate::optimize::Stop;
 use std::sync::{Arc, Mutex};
 
 use argmin::core::{
@@ -271,17 +272,22 @@ pub fn minimize_particle_swarm<B: BlackBox + ?Sized>(
         )
         .run()
         .map_err(from_argmin)?;
-    let termination = res
-        .state()
-        .get_termination_reason()
-        .map(|r| r.text().to_string())
-        .unwrap_or_default();
+    let reason = res.state().get_termination_reason();
+    let termination = reason.map(|r| r.text().to_string()).unwrap_or_default();
+    let stop = if res.solver().spent {
+        Stop::BudgetExhausted
+    } else if matches!(reason, Some(TerminationReason::SolverExit(_))) {
+        Stop::Converged // the swarm collapsed to within xtol of its best
+    } else {
+        Stop::IterationLimit
+    };
     drop(res);
     let log = log.into_inner().unwrap_or_else(|e| e.into_inner());
     finish(
         log.history,
         take_path(&path),
         termination,
+        stop,
         bb.n_constraints(),
         opts.constraint_tol,
         &fallback,

@@ -3,6 +3,42 @@
 use super::evaluation::Evaluation;
 use super::observer::Iterate;
 
+/// Why an optimiser stopped: outcome as data (Clarabel's `SolverStatus`, argmin's
+/// `TerminationReason`), with [`OptimizeResult::termination`] saying it in words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stop {
+    /// The method's own convergence test held (trust radius, simplex size, swarm spread, no gain
+    /// from a restart).
+    Converged,
+    /// The evaluation budget was spent before convergence: the best point is the best seen.
+    BudgetExhausted,
+    /// The iteration cap was reached before convergence.
+    IterationLimit,
+    /// Every evaluation failed.
+    AllFailed,
+    /// A grid search evaluated every node (exhaustive, no convergence test).
+    GridComplete,
+}
+
+impl Stop {
+    /// Whether the result is an optimum in the method's own sense.
+    pub fn is_converged(self) -> bool {
+        matches!(self, Stop::Converged | Stop::GridComplete)
+    }
+
+    /// In words, for terminals.
+    pub fn text(self) -> &'static str {
+        match self {
+            Stop::Converged => "converged",
+            Stop::BudgetExhausted => "evaluation budget exhausted (not converged)",
+            Stop::IterationLimit => "iteration limit reached (not converged)",
+            Stop::AllFailed => "every evaluation failed",
+            Stop::GridComplete => "every grid node evaluated",
+        }
+    }
+}
+
 /// Outcome of an optimisation run. Reaching the budget or failing everywhere is an outcome, not
 /// an error: read [`OptimizeResult::termination`] and `evaluation.failed`.
 #[derive(Clone, Debug, PartialEq)]
@@ -20,6 +56,8 @@ pub struct OptimizeResult {
     pub path: Vec<Iterate>,
     /// Why the run stopped, in words.
     pub termination: String,
+    /// Why the run stopped.
+    pub stop: Stop,
 }
 
 impl OptimizeResult {

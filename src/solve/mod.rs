@@ -100,6 +100,51 @@ pub struct PathPoint {
     pub evaluations: usize,
 }
 
+/// How a solve ended (`solution.json` → `status`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolveStatus {
+    /// The optimiser's convergence test held at a feasible point: the optimum.
+    Converged,
+    /// Every node of a grid evaluated; the best feasible node.
+    GridComplete,
+    /// The evaluation budget ran out first: the best feasible point seen, not an optimum.
+    BudgetExhausted,
+    /// The iteration cap ran out first: the best feasible point seen, not an optimum.
+    IterationLimit,
+    /// No evaluated point was feasible.
+    NoFeasiblePoint,
+}
+
+impl SolveStatus {
+    fn of(stop: crate::optimize::Stop, best: Option<&PointEvaluation>) -> SolveStatus {
+        use crate::optimize::Stop;
+        match (best, stop) {
+            (None, _) | (_, Stop::AllFailed) => SolveStatus::NoFeasiblePoint,
+            (Some(_), Stop::Converged) => SolveStatus::Converged,
+            (Some(_), Stop::GridComplete) => SolveStatus::GridComplete,
+            (Some(_), Stop::BudgetExhausted) => SolveStatus::BudgetExhausted,
+            (Some(_), Stop::IterationLimit) => SolveStatus::IterationLimit,
+        }
+    }
+
+    /// Whether the best point is an optimum in the method's own sense.
+    pub fn is_optimum(self) -> bool {
+        matches!(self, SolveStatus::Converged | SolveStatus::GridComplete)
+    }
+
+    /// In words, for terminals.
+    pub fn text(self) -> &'static str {
+        match self {
+            SolveStatus::Converged => "converged",
+            SolveStatus::GridComplete => "every grid node evaluated",
+            SolveStatus::BudgetExhausted => "evaluation budget exhausted before convergence",
+            SolveStatus::IterationLimit => "iteration limit reached before convergence",
+            SolveStatus::NoFeasiblePoint => "no feasible point",
+        }
+    }
+}
+
 /// What [`solve`] found.
 #[derive(Debug, Clone)]
 pub struct SolveOutcome {
@@ -110,6 +155,7 @@ pub struct SolveOutcome {
     pub evaluations: Vec<PointEvaluation>,
     pub path: Vec<PathPoint>,
     pub termination: String,
+    pub status: SolveStatus,
 }
 
 fn constraints_of(problem: &Problem) -> Result<&Constraints, SolveError> {
@@ -200,6 +246,9 @@ pub fn solve(
         }
     };
     let evaluations = bb.log.into_inner().unwrap_or_else(|e| e.into_inner());
+    let stop = result
+        .as_ref()
+        .map_or(crate::optimize::Stop::GridComplete, |r| r.stop);
     let (path, termination) = match &result {
         Some(r) => (
             r.path
@@ -223,6 +272,7 @@ pub fn solve(
     let best = best_point(&evaluations);
     Ok(SolveOutcome {
         method: settings.method,
+        status: SolveStatus::of(stop, best.as_ref()),
         best,
         evaluations,
         path,

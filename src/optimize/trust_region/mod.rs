@@ -49,6 +49,7 @@
 mod problem;
 mod subproblem;
 
+use crate::optimize::Stop;
 use std::sync::{Arc, Mutex};
 
 use argmin::core::{
@@ -180,6 +181,7 @@ const CUT_FRACTION: f64 = 0.25;
 
 const BUDGET_SPENT: &str = "evaluation budget exhausted";
 const ALL_FAILED: &str = "every evaluation failed";
+const CONVERGED: &str = "trust-region radius below min_radius (converged)";
 
 impl TrustRegion {
     /// A solver for `m` black-box constraints starting at `x0` (projected onto `set` if
@@ -659,7 +661,7 @@ where
         }
         if self.radius < self.opts.min_radius {
             let reason = if self.centre.is_some() {
-                "trust-region radius below min_radius (converged)"
+                CONVERGED
             } else {
                 ALL_FAILED
             };
@@ -694,6 +696,12 @@ pub fn minimize_trust_region<B: BlackBox + ?Sized>(
         .map(|r| r.text().to_string())
         .unwrap_or_else(|| "unknown".into());
     let solver = res.solver();
+    let stop = match termination.as_str() {
+        BUDGET_SPENT => Stop::BudgetExhausted,
+        ALL_FAILED => Stop::AllFailed,
+        CONVERGED => Stop::Converged,
+        _ => Stop::IterationLimit,
+    };
     let (x, evaluation) = match solver.centre() {
         Some((x, e)) => (x.to_vec(), e.clone()),
         None => (solver.x0.clone(), Evaluation::failure(solver.m)),
@@ -705,6 +713,7 @@ pub fn minimize_trust_region<B: BlackBox + ?Sized>(
         history: solver.history().to_vec(),
         path: take_path(&log),
         termination,
+        stop,
     })
 }
 

@@ -1,0 +1,54 @@
+//! A solve that runs out of evaluations says so: `solution.json` → `status` is
+//! "budget_exhausted" (not an optimum) and the terminal does not call its point an optimum; a
+//! converged one says "converged".
+
+use serde_json::Value;
+use std::process::Command;
+
+fn solve(problem: &str, out: &std::path::Path) -> (Value, String) {
+    let run = Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(["solve", problem, "--quiet", "--out", out.to_str().unwrap()])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("drillopt runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let json = std::fs::read_to_string(out.join("solution.json")).unwrap();
+    (
+        serde_json::from_str(&json).unwrap(),
+        String::from_utf8_lossy(&run.stdout).into_owned(),
+    )
+}
+
+#[test]
+fn the_status_tells_a_spent_budget_from_convergence() {
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/regression/tiny_string.toml"
+    ))
+    .unwrap();
+    assert!(tiny.contains("max_evaluations = 30"));
+    let short = dir.path().join("tiny_budget.toml");
+    std::fs::write(
+        &short,
+        tiny.replace("max_evaluations = 30", "max_evaluations = 3"),
+    )
+    .unwrap();
+    let (json, stdout) = solve(short.to_str().unwrap(), &dir.path().join("budget"));
+    assert_eq!(
+        json["status"], "budget_exhausted",
+        "{}",
+        json["termination"]
+    );
+    assert!(stdout.contains("NOT an optimum"), "{stdout}");
+    let (json, stdout) = solve(
+        "problems/regression/tiny_string.toml",
+        &dir.path().join("full"),
+    );
+    assert_eq!(json["status"], "converged", "{}", json["termination"]);
+    assert!(stdout.contains("optimum: Ω = 111.1 rpm"), "{stdout}");
+}
