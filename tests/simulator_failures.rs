@@ -86,3 +86,28 @@ fn a_step_below_the_minimum_stops_the_run_with_its_time() {
         other => panic!("expected a step-size failure, got {other:?}"),
     }
 }
+
+/// A run whose step keeps collapsing above `min_step` still ends: after `max_attempts` step
+/// attempts it stops with the time and the count, keeping what it had recorded.
+#[test]
+fn a_run_stops_after_its_step_attempt_limit() {
+    let (p, m) = model();
+    let mut settings = RunSettings::new(1.0, p.simulation.time_step);
+    settings.max_attempts = 500;
+    let out = run(&p, &m, &settings, InitialState::Preloaded);
+    match &out.error {
+        Some(SimulationError::TooManySteps { time, attempts, .. }) => {
+            assert_eq!(*attempts, 500);
+            assert!(*time > 0.0 && *time < 1.0, "t = {time}");
+            assert_eq!(
+                (out.stats.steps + out.stats.rejected_steps) as u64,
+                500,
+                "stopped at the limit"
+            );
+            assert!((out.series.t.last().unwrap() - time).abs() < 1e-12);
+            let message = out.error.as_ref().unwrap().to_string();
+            assert!(message.contains("500 step attempts"), "{message}");
+        }
+        other => panic!("expected the attempt limit, got {other:?}"),
+    }
+}

@@ -60,7 +60,9 @@ struct Summary<'a> {
     /// lowest torsional and axial periods), s.
     nominal_step_s: f64,
     max_step_s: f64,
-    /// "completed", or "failed" with `error` saying when and why (what was computed is kept).
+    /// "completed"; "failed" with `error` saying when and why (what was computed is kept); or
+    /// "no metrics" when the run finished but its metrics could not be computed
+    /// (`metrics_error` says why).
     status: &'a str,
     error: Option<String>,
     metrics: Option<metrics::Metrics>,
@@ -162,10 +164,10 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         basis: output.basis,
         nominal_step_s: problem.simulation.time_step,
         max_step_s: output.max_step,
-        status: if output.error.is_none() {
-            "completed"
-        } else {
-            "failed"
+        status: match (&output.error, &metrics_error) {
+            (None, None) => "completed",
+            (None, Some(_)) => "no metrics",
+            (Some(_), _) => "failed",
         },
         error: output.error.as_ref().map(|e| e.to_string()),
         metrics,
@@ -185,13 +187,19 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         }
     }
     print_summary(&summary, &out);
-    match &output.error {
-        None => Ok(()),
-        Some(e) => anyhow::bail!(
+    if let Some(e) = &output.error {
+        anyhow::bail!(
             "simulation stopped early: {e} (results up to then written to {})",
             out.display()
-        ),
+        );
     }
+    if let Some(e) = &summary.metrics_error {
+        anyhow::bail!(
+            "the run finished but its metrics could not be computed: {e} (results in {})",
+            out.display()
+        );
+    }
+    Ok(())
 }
 
 fn print_summary(s: &Summary, out: &Path) {

@@ -32,6 +32,10 @@ pub struct RunSettings {
     pub newmark: NewmarkSettings,
     /// A lateral displacement beyond this many gaps means the run diverged.
     pub divergence_gaps: f64,
+    /// Step attempts (accepted and rejected) after which the run stops: a step that collapses
+    /// without reaching `min_step` would otherwise run for ever. Default: 10⁶ per simulated
+    /// second (the converged seed run takes about 14 000), at least 10⁵.
+    pub max_attempts: u64,
 }
 
 impl RunSettings {
@@ -43,9 +47,13 @@ impl RunSettings {
             probes: Vec::new(),
             newmark: NewmarkSettings::default(),
             divergence_gaps: 50.0,
+            max_attempts: (duration * MAX_ATTEMPTS_PER_SECOND).clamp(1e5, 1e12) as u64,
         }
     }
 }
+
+/// Default step attempts allowed per simulated second (see [`RunSettings::max_attempts`]).
+pub const MAX_ATTEMPTS_PER_SECOND: f64 = 1e6;
 
 /// Where a run starts.
 #[derive(Debug, Clone, PartialEq)]
@@ -92,7 +100,7 @@ pub struct SolverStats {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimulationError {
     #[error(
-        "static equilibrium under gravity did not converge in {iterations} Newton iterations (last update {update:e} m)"
+        "the starting equilibrium (static under gravity, or the pre-loaded drilling state) did not converge in {iterations} Newton iterations (last update {update:e} m)"
     )]
     StaticEquilibrium { iterations: usize, update: f64 },
     #[error("at t = {time:.6} s the time step fell below {min_step:e} s ({reason})")]
@@ -101,6 +109,10 @@ pub enum SimulationError {
         min_step: f64,
         reason: String,
     },
+    #[error(
+        "at t = {time:.6} s the run had made {attempts} step attempts, its limit: the step keeps collapsing (last step {step:e} s)"
+    )]
+    TooManySteps { time: f64, attempts: u64, step: f64 },
     #[error("at t = {time:.6} s the state became non-finite")]
     NonFinite { time: f64 },
     #[error(
@@ -496,6 +508,13 @@ pub fn simulate(
                 h *= 0.5;
                 nm.mark_stale();
             }
+        }
+        if error.is_none() && (stats.steps + stats.rejected_steps) as u64 >= settings.max_attempts {
+            error = Some(SimulationError::TooManySteps {
+                time: nm.t,
+                attempts: settings.max_attempts,
+                step: h,
+            });
         }
         if error.is_none() && h < settings.min_step {
             error = Some(SimulationError::StepTooSmall {
