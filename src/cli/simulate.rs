@@ -13,19 +13,27 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
+/// The operating point and window of a one-point command (`simulate`, `verify`).
 #[derive(Debug, Args)]
-pub struct SimulateArgs {
-    /// Problem file (TOML).
-    pub problem: PathBuf,
+pub struct PointArgs {
     /// Rotation speed, e.g. `60rpm` or `6.28` (rad/s) [default: the problem's].
     #[arg(long)]
     pub omega: Option<String>,
     /// Imposed axial velocity, e.g. `5m/h` or `0.00139` (m/s) [default: the problem's].
     #[arg(long)]
     pub v0: Option<String>,
-    /// Simulated duration, e.g. `90` or `2s` [default: the problem's].
+    /// Simulated duration, e.g. `90` or `2s` [default: simulation.duration]; the analysis window
+    /// starts after simulation.settling_time (at most half the duration).
     #[arg(long)]
     pub duration: Option<String>,
+}
+
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// Problem file (TOML).
+    pub problem: PathBuf,
+    #[command(flatten)]
+    pub point: PointArgs,
     /// Output directory [default: results/<problem>/simulate].
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -92,10 +100,13 @@ pub(super) fn parse_override(
 /// `--omega`, `--v0`, `--duration` (each with its unit, > 0).
 pub(super) fn point_and_duration(
     problem: &Problem,
-    omega: &Option<String>,
-    v0: &Option<String>,
-    duration: &Option<String>,
+    args: &PointArgs,
 ) -> anyhow::Result<(OperatingPoint, f64)> {
+    let PointArgs {
+        omega,
+        v0,
+        duration,
+    } = args;
     let op = OperatingPoint {
         omega: parse_override(
             omega,
@@ -116,7 +127,7 @@ pub(super) fn point_and_duration(
 
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
-    let (op, duration) = point_and_duration(&problem, &args.omega, &args.v0, &args.duration)?;
+    let (op, duration) = point_and_duration(&problem, &args.point)?;
     let out = args
         .out
         .clone()

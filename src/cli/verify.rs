@@ -1,7 +1,7 @@
 //! `drillopt verify PROBLEM [--omega] [--v0] [--duration S] [--json] [--quiet]`: solution
 //! verification of the decision metrics at one operating point (see [`crate::verify`]).
 
-use super::simulate::point_and_duration;
+use super::simulate::{PointArgs, point_and_duration};
 use crate::problem::Problem;
 use crate::verify::{self, Refinement, VerifyReport, VerifySettings};
 use anyhow::Context;
@@ -13,16 +13,9 @@ use std::path::PathBuf;
 pub struct VerifyArgs {
     /// Problem file (TOML).
     pub problem: PathBuf,
-    /// Rotation speed, e.g. `60rpm` [default: the problem's operating point].
-    #[arg(long)]
-    pub omega: Option<String>,
-    /// Imposed axial velocity, e.g. `5m/h` [default: the problem's operating point].
-    #[arg(long)]
-    pub v0: Option<String>,
-    /// Simulated duration of the base run, e.g. `10s` [default: simulation.duration]; the
-    /// analysis window starts after simulation.settling_time (at most half the duration).
-    #[arg(long)]
-    pub duration: Option<String>,
+    /// The base run's operating point and duration.
+    #[command(flatten)]
+    pub point: PointArgs,
     /// Print the report as JSON: {"metrics": {KEY: {"value", "refined": {"basis", "mesh",
     /// "tolerance", "window"}, "max_rel_change", "limit", "floor", "converged", …}},
     /// "converged", "basis", "refined_basis", "runs"}. The relative change of a refined value r
@@ -39,7 +32,7 @@ pub struct VerifyArgs {
 
 pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
-    let (op, duration) = point_and_duration(&problem, &args.omega, &args.v0, &args.duration)?;
+    let (op, duration) = point_and_duration(&problem, &args.point)?;
     let settings = VerifySettings {
         op,
         duration,
