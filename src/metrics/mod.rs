@@ -143,6 +143,9 @@ pub struct Metrics {
     /// Stick-slip severity (max ω̄ − min ω̄) / (2Ω) of the averaged bit speed ω̄, dimensionless;
     /// 0 for steady rotation.
     pub stick_slip_severity: f64,
+    /// SSI by MODEL.md §8's formula on the raw (not averaged) bit speed, dimensionless: the
+    /// paper's definition, kept for comparison; not converged in the basis (see above).
+    pub stick_slip_severity_raw: f64,
     /// Share of time in [0, 1] with ω̄ < stick_threshold · Ω (bit stuck), dimensionless.
     pub stick_fraction: f64,
     /// Peak bit speed ratio max ω̄ / Ω of the averaged bit speed, dimensionless.
@@ -199,11 +202,12 @@ pub struct Metrics {
 impl Metrics {
     /// Every metric with its `summary.json` key, values as they are (±∞ and NaN included: a
     /// JSON round trip would turn them into null).
-    pub fn named_values(&self) -> [(&'static str, f64); 17] {
+    pub fn named_values(&self) -> [(&'static str, f64); 18] {
         [
             ("mean_rop_m_s", self.mean_rop_m_s),
             ("mean_rop_m_per_h", self.mean_rop_m_per_h),
             ("stick_slip_severity", self.stick_slip_severity),
+            ("stick_slip_severity_raw", self.stick_slip_severity_raw),
             ("stick_fraction", self.stick_fraction),
             ("max_bit_speed_ratio", self.max_bit_speed_ratio),
             ("bit_bounce_fraction", self.bit_bounce_fraction),
@@ -291,6 +295,10 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
         mean_rop_m_s: mean_rop,
         mean_rop_m_per_h: mean_rop * 3600.0,
         stick_slip_severity: (max_spin - min_spin) / (2.0 * omega),
+        stick_slip_severity_raw: {
+            let raw = &series.bit_angular_velocity[i0..];
+            (ta::max(raw) - ta::min(raw)) / (2.0 * omega)
+        },
         stick_fraction: ta::share(t, theta_dot, |v| v < stick_speed),
         max_bit_speed_ratio: max_spin / omega,
         bit_bounce_fraction: ta::share(t, &series.weight_on_bit[i0..], |v| v <= 0.0),

@@ -329,10 +329,11 @@ pub struct Study {
 }
 
 /// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
-pub const METRICS: [&str; 17] = [
+pub const METRICS: [&str; 18] = [
     "mean_rop_m_s",
     "mean_rop_m_per_h",
     "stick_slip_severity",
+    "stick_slip_severity_raw",
     "stick_fraction",
     "max_bit_speed_ratio",
     "bit_bounce_fraction",

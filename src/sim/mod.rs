@@ -21,4 +21,5 @@ pub use series::TimeSeries;
 /// can move a simulated number (model, basis, start, integrator, metrics), so that results of
 /// older numerics are never reused. 2: basis per family with static corrections, pre-loaded start,
 /// step resolving the lowest torsional and axial modes, averaged bit speed, impacts by speed.
-pub const SIMULATOR_REVISION: u32 = 2;
+/// 3: strain tangent refreshed after failed attempts only; metric stick_slip_severity_raw.
+pub const SIMULATOR_REVISION: u32 = 3;
