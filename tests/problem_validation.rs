@@ -949,13 +949,18 @@ fn a_non_positive_duration_or_time_step_is_refused() {
 
 #[test]
 fn a_time_step_longer_than_the_duration_is_refused() {
+    let short = SEED
+        .replace("duration = \"90 s\"", "duration = \"0.5 s\"")
+        .replace("settling_time = \"2 s\"", "settling_time = \"0.1 s\"")
+        .replace("time_step = \"69 ms\"", "time_step = \"0.8 s\"");
     refused(
-        &set("simulation", "time_step", "\"91 s\""),
+        &short,
         "simulation.time_step",
         &["no longer than simulation.duration"],
     );
-    let p = accepted(&set("simulation", "time_step", "\"90 s\""));
-    assert_eq!(p.simulation.time_step, 90.0);
+    // A step as long as the window is allowed.
+    let p = accepted(&short.replace("time_step = \"0.8 s\"", "time_step = \"0.5 s\""));
+    assert_eq!(p.simulation.time_step, 0.5);
 }
 
 #[test]
@@ -1013,4 +1018,43 @@ fn a_name_that_is_not_a_plain_folder_name_is_refused() {
         accepted(&set("", "name", "\"seed-v2_b\"")).name,
         "seed-v2_b"
     );
+}
+
+/// Issue 13: every physical input has an admissible range; a typo far outside it (an exponent
+/// too many, a missing unit) is refused naming the key and the range, before anything runs.
+#[test]
+fn physical_inputs_have_admissible_ranges() {
+    for (table, key, value, allowed) in [
+        ("model", "length", "\"1e308 m\"", "(0, 15000] m"),
+        (
+            "model.pipe",
+            "density",
+            "\"1e-300 kg/m^3\"",
+            "[1000, 25000] kg/m3",
+        ),
+        (
+            "model.pipe",
+            "youngs_modulus",
+            "\"203 kPa\"",
+            "[1000000000, 1000000000000] Pa",
+        ),
+        ("model.wall", "friction", "1e308", "[0, 2]"),
+        ("model.bit", "limit_force", "\"250 GN\"", "unknown unit"),
+        ("model.bit", "limit_force", "2.5e11", "[0, 5000000] N"),
+        ("operating_point", "v0", "\"1e308 m/h\"", "at most 1000 m/h"),
+        (
+            "operating_point",
+            "omega",
+            "\"1e-300 rpm\"",
+            "1 to 1000 rpm",
+        ),
+        ("simulation", "duration", "\"1e9 s\"", "at most a day"),
+        ("simulation", "time_step", "\"1e-300 s\"", "[0.000001, 1] s"),
+    ] {
+        refused(
+            &set(table, key, value),
+            &format!("{table}.{key}"),
+            &[allowed],
+        );
+    }
 }

@@ -91,6 +91,14 @@ pub(super) fn parse_override(
         Some(t) => {
             let v = dim.parse(t).with_context(|| flag.to_string())?;
             anyhow::ensure!(v.is_finite() && v > 0.0, "{flag} must be > 0, got {t}");
+            let key = match flag {
+                "--omega" => "operating_point.omega",
+                "--v0" => "operating_point.v0",
+                _ => "simulation.duration",
+            };
+            if let Some(r) = crate::problem::limits::range_of(key) {
+                anyhow::ensure!(r.contains(v), "{flag} must be {}, got {t}", r.describe(dim));
+            }
             Ok(v)
         }
     }

@@ -5,6 +5,7 @@
 //! dotted key (`model.pipe.outer_radius`) and says what is allowed.
 
 mod error;
+pub mod limits;
 pub mod schema;
 pub mod study;
 pub mod units;

@@ -79,13 +79,19 @@ impl Checker<'_> {
         }
     }
 
-    /// A finite value in SI units.
+    /// A finite value in SI units, within its admissible range (see [`super::limits`]).
     pub(super) fn value(
         &self,
         key: &str,
         raw: &RawQuantity,
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
+        let v = self.finite(key, raw, dim)?;
+        self.admissible(key, v, dim)
+    }
+
+    /// A finite value in SI units (no range check).
+    fn finite(&self, key: &str, raw: &RawQuantity, dim: Dimension) -> Result<f64, ProblemError> {
         let v = match raw {
             RawQuantity::Number(v) => *v,
             RawQuantity::Text(t) => dim.parse(t).map_err(|e| self.fail(key, e.to_string()))?,
@@ -94,6 +100,17 @@ impl Checker<'_> {
             Ok(v)
         } else {
             Err(self.fail(key, format!("must be a finite number, got {v}")))
+        }
+    }
+
+    /// `v` if it lies in the admissible range of `key` (if the key has one).
+    fn admissible(&self, key: &str, v: f64, dim: Dimension) -> Result<f64, ProblemError> {
+        match super::limits::range_of(key) {
+            Some(r) if !r.contains(v) => Err(self.fail(
+                key,
+                format!("must be {}, got {v} {}", r.describe(dim), dim.si_unit()),
+            )),
+            _ => Ok(v),
         }
     }
 
@@ -120,8 +137,9 @@ impl Checker<'_> {
         raw: &RawQuantity,
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
-        let v = self.value(key, raw, dim)?;
-        self.check(key, v, v > 0.0, "> 0", dim)
+        let v = self.finite(key, raw, dim)?;
+        self.check(key, v, v > 0.0, "> 0", dim)?;
+        self.admissible(key, v, dim)
     }
 
     pub(super) fn non_negative(
@@ -130,8 +148,9 @@ impl Checker<'_> {
         raw: &RawQuantity,
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
-        let v = self.value(key, raw, dim)?;
-        self.check(key, v, v >= 0.0, ">= 0", dim)
+        let v = self.finite(key, raw, dim)?;
+        self.check(key, v, v >= 0.0, ">= 0", dim)?;
+        self.admissible(key, v, dim)
     }
 }
 
