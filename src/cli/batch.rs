@@ -9,11 +9,13 @@ use std::path::{Path, PathBuf};
 pub struct BatchArgs {
     /// Directory of problem files (*.toml, searched recursively).
     pub dir: PathBuf,
-    /// Output root (default results/<problem>/batch per problem).
+    /// Output root: <out>/<problem> per problem [default: results/<problem>/batch].
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Reuse the finished simulations of an interrupted batch (each problem's cache).
     #[arg(long)]
     pub resume: bool,
+    /// Only the pass/fail table: no progress and no per-problem result tables.
     #[arg(long)]
     pub quiet: bool,
 }

@@ -15,15 +15,20 @@ use std::time::Instant;
 
 #[derive(Debug, Args)]
 pub struct CompareArgs {
+    /// Problem file (TOML); its [uncertain] samples, [objective] and [constraints] apply.
     pub problem: PathBuf,
     /// An operating point "OMEGA,V0", each with its unit, e.g. 60rpm,5m/h (repeat the flag);
     /// points outside the problem's constraints are evaluated and reported infeasible.
     #[arg(long = "point", required = true)]
     pub points: Vec<String>,
+    /// Output directory [default: results/<problem>/compare]: compare.json, the bit-speed plot,
+    /// cache.jsonl.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Reuse the finished simulations of an interrupted run (the evaluation cache in --out).
     #[arg(long)]
     pub resume: bool,
+    /// No progress bar and no table.
     #[arg(long)]
     pub quiet: bool,
 }

@@ -13,15 +13,18 @@ use std::time::Instant;
 
 #[derive(Debug, Args)]
 pub struct MapArgs {
+    /// Problem file (TOML) with a [constraints] section (the box that is mapped).
     pub problem: PathBuf,
-    /// Grid size n_Ω x n_V0 (default: the problem's optimizer.grid).
+    /// Grid size n_Ω x n_V0, e.g. 15x15 (default: the problem's optimizer.grid).
     #[arg(long)]
     pub grid: Option<String>,
+    /// Output directory [default: results/<problem>/map]: map.json, heat maps, cache.jsonl.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Reuse the finished simulations of an interrupted run.
+    /// Reuse the finished simulations of an interrupted run (the evaluation cache in --out).
     #[arg(long)]
     pub resume: bool,
+    /// No progress bar and no table.
     #[arg(long)]
     pub quiet: bool,
 }
