@@ -51,4 +51,10 @@ fn the_status_tells_a_spent_budget_from_convergence() {
     );
     assert_eq!(json["status"], "converged", "{}", json["termination"]);
     assert!(stdout.contains("optimum: Ω = 111.1 rpm"), "{stdout}");
+    // The report records the problem file itself and its FNV-1a hash (computed here anew).
+    assert_eq!(json["problem_toml"].as_str().unwrap(), tiny);
+    let fnv = tiny.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    assert_eq!(json["problem_hash"], format!("{fnv:016x}"));
 }

@@ -61,6 +61,8 @@ pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
 struct CompareJson<'a> {
     problem: &'a str,
     problem_file: String,
+    #[serde(flatten)]
+    record: super::ProblemRecord<'a>,
     version: &'a str,
     seed: u64,
     samples: usize,
@@ -102,6 +104,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let json = CompareJson {
         problem: &problem.name,
         problem_file: args.problem.display().to_string(),
+        record: super::ProblemRecord::of(&problem),
         version: crate::VERSION,
         seed: problem.study.seed,
         samples: problem.study.samples,

@@ -33,6 +33,8 @@ pub struct MapArgs {
 struct MapJson<'a> {
     problem: &'a str,
     problem_file: String,
+    #[serde(flatten)]
+    record: super::ProblemRecord<'a>,
     version: &'a str,
     seed: u64,
     samples: usize,
@@ -83,6 +85,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     let json = MapJson {
         problem: &problem.name,
         problem_file: args.problem.display().to_string(),
+        record: super::ProblemRecord::of(&problem),
         version: crate::VERSION,
         seed: problem.study.seed,
         samples: problem.study.samples,

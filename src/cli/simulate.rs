@@ -54,6 +54,8 @@ struct OperatingPointJson {
 struct Summary<'a> {
     problem: &'a str,
     problem_file: String,
+    #[serde(flatten)]
+    record: super::ProblemRecord<'a>,
     version: &'a str,
     operating_point: OperatingPointJson,
     duration_s: f64,
@@ -169,6 +171,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let summary = Summary {
         problem: &problem.name,
         problem_file: args.problem.display().to_string(),
+        record: super::ProblemRecord::of(&problem),
         version: crate::VERSION,
         operating_point: OperatingPointJson {
             omega_rad_s: op.omega,

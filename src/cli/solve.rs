@@ -75,6 +75,8 @@ pub(super) struct EvaluationJson {
 struct SolutionJson<'a> {
     problem: &'a str,
     problem_file: String,
+    #[serde(flatten)]
+    record: super::ProblemRecord<'a>,
     version: &'a str,
     seed: u64,
     samples: usize,
@@ -284,6 +286,7 @@ fn write_report(
     let json = SolutionJson {
         problem: &problem.name,
         problem_file: problem_file.display().to_string(),
+        record: super::ProblemRecord::of(problem),
         version: crate::VERSION,
         seed: study_.seed,
         samples: study_.samples,

@@ -27,6 +27,8 @@ pub struct Problem {
     pub description: String,
     /// Where it was read from (empty for problems built in code).
     pub source: PathBuf,
+    /// The problem file's text as read, recorded in every report with its hash.
+    pub text: String,
     pub model: Drillstring,
     pub mesh: Mesh,
     pub operating_point: OperatingPoint,
@@ -49,6 +51,8 @@ impl Problem {
     /// Parse and validate TOML text; `path` is used for messages and the default name.
     pub fn from_toml(text: &str, path: &Path) -> Result<Self, ProblemError> {
         let raw = validate::parse(text, path)?;
-        validate::problem(raw, path)
+        let mut problem = validate::problem(raw, path)?;
+        problem.text = text.to_string();
+        Ok(problem)
     }
 }

@@ -179,6 +179,7 @@ pub(super) fn problem(raw: ProblemFile, file: &Path) -> Result<Problem, ProblemE
         name,
         description: raw.description.unwrap_or_default(),
         source: file.to_path_buf(),
+        text: String::new(),
         model,
         mesh,
         operating_point,
