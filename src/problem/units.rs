@@ -112,9 +112,21 @@ impl Dimension {
         if unit.is_empty() {
             return Ok(value);
         }
-        self.units()
-            .iter()
-            .find(|(name, _)| *name == unit)
+        // The exact spelling first; else a unit that matches ignoring case, if only one does
+        // ("80 RPM", "5 M/H"), so that no spelling can mean two units.
+        let exact = self.units().iter().find(|(name, _)| *name == unit);
+        let folded = || {
+            let mut m = self
+                .units()
+                .iter()
+                .filter(|(name, _)| name.eq_ignore_ascii_case(unit));
+            match (m.next(), m.next()) {
+                (Some(one), None) => Some(one),
+                _ => None,
+            }
+        };
+        exact
+            .or_else(folded)
             .map(|(_, factor)| value * factor)
             .ok_or_else(|| UnitError::new(self, text, &format!("unknown unit `{unit}`")))
     }
@@ -193,6 +205,13 @@ mod tests {
         assert_relative_eq!(Dimension::Stiffness.parse("1e10 N/m").unwrap(), 1e10);
         assert_relative_eq!(Dimension::Velocity.parse("1.5e-3").unwrap(), 1.5e-3);
         assert_relative_eq!(Dimension::Time.parse("69 ms").unwrap(), 0.069);
+        // Case is forgiven when only one unit matches.
+        assert_relative_eq!(
+            Dimension::AngularVelocity.parse("60 RPM").unwrap(),
+            2.0 * PI
+        );
+        assert_relative_eq!(Dimension::Velocity.parse("5 M/H").unwrap(), 1.0 / 720.0);
+        assert_relative_eq!(Dimension::Force.parse("250 KN").unwrap(), 250e3);
     }
 
     #[test]
