@@ -7,17 +7,19 @@
 pub mod cache;
 pub mod cli;
 pub mod fem;
+pub mod hash;
 pub mod integrate;
 pub mod metrics;
 pub mod model;
-pub mod objective;
 pub mod optimize;
 pub mod problem;
 pub mod report;
 pub mod rom;
 pub mod sim;
 pub mod solve;
-pub mod uncertain;
+pub mod stats;
+pub mod study;
+pub mod units;
 pub mod verify;
 
 /// Version of drillopt, recorded in every result file.

@@ -150,7 +150,7 @@ fn the_preloaded_start_carries_the_steady_bit_loads() {
     let mut sys = Dynamics::new(&model, op, Effects::ALL);
     let obs = sys.observe(&q, &zero, &zero);
     let bit = &p.model.bit;
-    let wob = bit.limit_force * (1.0 - (-bit.rate * op.v0).exp());
+    let wob = bit.get("limit_force").unwrap() * (1.0 - (-bit.get("rate").unwrap() * op.v0).exp());
     assert!(
         (-obs.bit.force / wob - 1.0).abs() < 1e-12,
         "WOB {}",
@@ -160,7 +160,7 @@ fn the_preloaded_start_carries_the_steady_bit_loads() {
     assert!((obs.bit_spin - op.omega).abs() < 1e-12);
     // ξ(ω) = tanh ω + 2ω/(1 + ω²), MODEL.md §6, written out as the independent reference.
     let w = op.omega;
-    let tob = bit.friction * wob * (w.tanh() + 2.0 * w / (1.0 + w * w));
+    let tob = bit.get("friction").unwrap() * wob * (w.tanh() + 2.0 * w / (1.0 + w * w));
     assert!(
         (-obs.bit.torque / tob - 1.0).abs() < 1e-12,
         "TOB {}",

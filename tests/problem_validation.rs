@@ -166,9 +166,9 @@ fn the_seed_file_loads_with_the_exact_table_1_values() {
     assert_eq!(m.wall.damping, 1e-9);
     assert_eq!(m.wall.friction, 1e-5);
     assert_eq!(m.wall.sign_smoothing, 1e-3);
-    assert_eq!(m.bit.limit_force, 250e3);
-    assert_eq!(m.bit.rate, 180.0);
-    assert_eq!(m.bit.friction, 0.04);
+    assert_eq!(m.bit.get("limit_force").unwrap(), 250e3);
+    assert_eq!(m.bit.get("rate").unwrap(), 180.0);
+    assert_eq!(m.bit.get("friction").unwrap(), 0.04);
 
     assert_eq!(p.mesh.elements, 105);
     assert_eq!(p.mesh.basis, BasisSpec::DEFAULT);
@@ -285,7 +285,11 @@ fn units_convert_to_si() {
     let p = accepted(&set("simulation", "time_step", "\"500 us\""));
     assert_relative_eq!(p.simulation.time_step, 5e-4, max_relative = 1e-14);
     let p = accepted(&set("model.bit", "limit_force", "\"0.3 MN\""));
-    assert_relative_eq!(p.model.bit.limit_force, 3e5, max_relative = 1e-14);
+    assert_relative_eq!(
+        p.model.bit.get("limit_force").unwrap(),
+        3e5,
+        max_relative = 1e-14
+    );
 }
 
 #[test]
@@ -433,7 +437,7 @@ fn a_missing_required_key_is_refused() {
     refused(
         &remove("model.bit", "rate"),
         "model.bit.rate",
-        &["missing field"],
+        &["is required by law = \"exponential\"", "α_BR"],
     );
 }
 
@@ -746,13 +750,17 @@ fn negative_contact_and_bit_parameters_are_refused() {
     refused(
         &set("model.bit", "limit_force", "\"-250 kN\""),
         "model.bit.limit_force",
-        &[">= 0"],
+        &["in [0, 5000000] N"],
     );
-    refused(&set("model.bit", "rate", "0"), "model.bit.rate", &["> 0"]);
+    refused(
+        &set("model.bit", "rate", "0"),
+        "model.bit.rate",
+        &["in (0, 100000] s/m"],
+    );
     refused(
         &set("model.bit", "friction", "\"-0.04 m\""),
         "model.bit.friction",
-        &[">= 0"],
+        &["in [0, 1] m"],
     );
     refused(
         &set("model", "gravity", "\"-9.81 m/s^2\""),

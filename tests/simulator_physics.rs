@@ -21,9 +21,10 @@ use drillopt::fem::Dof;
 use drillopt::integrate::{ImplicitSystem, JacobianCoefficients};
 use drillopt::metrics::{self, Metrics, MetricsConfig};
 use drillopt::model::BasisSpec;
+use drillopt::model::bit::xi;
 use drillopt::model::{Drillstring, OperatingPoint};
 use drillopt::rom::{Family, ReducedModel};
-use drillopt::sim::{Dynamics, Effects, InitialState, RunSettings, simulate, xi};
+use drillopt::sim::{Dynamics, Effects, InitialState, RunSettings, simulate};
 use nalgebra::{DMatrix, DVector};
 use std::time::Instant;
 
@@ -46,9 +47,9 @@ fn first_torsional(model: &ReducedModel) -> (usize, f64) {
 /// c_crit = −φ₁(L)² μ_BR |F_BR| ξ′(Ω) with |F_BR| = Γ (1 − e^{−α V0}), from the closed-form law.
 fn critical_damping(string: &Drillstring, phi_l: f64, op: &OperatingPoint) -> f64 {
     let b = &string.bit;
-    let force = b.limit_force * (1.0 - (-b.rate * op.v0).exp());
+    let force = b.get("limit_force").unwrap() * (1.0 - (-b.get("rate").unwrap() * op.v0).exp());
     let (_, dxi) = xi(op.omega);
-    -phi_l * phi_l * b.friction * force * dxi
+    -phi_l * phi_l * b.get("friction").unwrap() * force * dxi
 }
 
 /// Steady rotation (all nodes at V0, Ω; q̇ = q̈ = 0) by Newton on the static residual, so that the

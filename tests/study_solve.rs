@@ -8,8 +8,8 @@
 
 use drillopt::cache::EvalCache;
 use drillopt::model::OperatingPoint;
-use drillopt::objective::RobustEvaluator;
 use drillopt::problem::Problem;
+use drillopt::study::{RobustEvaluator, SampleExecutor, SampleJob, SampleResult, Serial};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -106,10 +106,16 @@ cov = 0.2
     )
     .unwrap();
     problem.study = extra.study;
-    let op = [OperatingPoint {
-        omega: 8.0,
-        v0: 10.0 / 3600.0,
-    }];
+    let op = [
+        OperatingPoint {
+            omega: 8.0,
+            v0: 10.0 / 3600.0,
+        },
+        OperatingPoint {
+            omega: 10.0,
+            v0: 12.0 / 3600.0,
+        },
+    ];
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -119,11 +125,33 @@ cov = 0.2
     };
     let (one, two) = (run(1), run(2));
     assert_eq!(one, two);
+    // Any executor, in any order of work, gives the same results in the same order.
+    struct Reversed;
+    impl SampleExecutor for Reversed {
+        fn execute(
+            &self,
+            jobs: &[SampleJob],
+            run: &(dyn Fn(SampleJob) -> SampleResult + Sync),
+        ) -> Vec<SampleResult> {
+            let mut out: Vec<SampleResult> = jobs.iter().rev().map(|&j| run(j)).collect();
+            out.reverse();
+            out
+        }
+        fn describe(&self) -> String {
+            "reversed".into()
+        }
+    }
+    let with = |e: Box<dyn Fn(RobustEvaluator) -> RobustEvaluator>| {
+        e(RobustEvaluator::new(&problem, None).unwrap()).evaluate(&op)
+    };
+    assert_eq!(with(Box::new(|ev| ev.with_executor(Serial))), one);
+    assert_eq!(with(Box::new(|ev| ev.with_executor(Reversed))), one);
+    assert_ne!(one[0], one[1], "two different points");
     let rops: Vec<f64> = one[0]
         .samples
         .iter()
         .map(|s| match &s.outcome {
-            drillopt::objective::SampleOutcome::Metrics(m) => m["mean_tob_nm"],
+            drillopt::study::SampleOutcome::Metrics(m) => m["mean_tob_nm"],
             _ => panic!("sample failed"),
         })
         .collect();

@@ -138,7 +138,7 @@ fn constraints_that_leave_no_feasible_point_are_refused() {
         Path::new("study.toml"),
     )
     .unwrap();
-    let ev = drillopt::objective::RobustEvaluator::new(&p, None).unwrap();
+    let ev = drillopt::study::RobustEvaluator::new(&p, None).unwrap();
     let err = drillopt::solve::solve(&p, &ev, None)
         .unwrap_err()
         .to_string();

@@ -33,13 +33,12 @@
 //! lock is released when the cache is dropped. On filesystems without locks the lock is
 //! skipped.
 
-mod hash;
 mod record;
 
 #[cfg(test)]
 mod tests;
 
-pub use hash::stable_hash;
+pub use crate::hash::stable_hash;
 pub use record::{CacheKey, EvalInfo, Outcome};
 
 use record::{RecordIn, RecordOut};

@@ -16,7 +16,7 @@ pub struct CacheKey {
     pub v0_bits: u64,
     /// Index of the Monte Carlo sample (0 for the nominal model).
     pub sample: u32,
-    /// Seed of that sample (see `uncertain::sample_seed`); with `sample` it pins the values.
+    /// Seed of that sample (see `stats::sample_seed`); with `sample` it pins the values.
     pub sample_seed: u64,
     /// [`stable_hash`](super::stable_hash) of everything else the simulation depends on (model,
     /// numerical settings, metric definitions); changing any of them must change this hash.

@@ -52,7 +52,7 @@ pub fn check(
     score: f64,
 ) -> (bool, String) {
     let mut fails = Vec::new();
-    let rpm = |w: f64| w * 30.0 / std::f64::consts::PI;
+    let rpm = crate::units::to_rpm;
     if !(expect.omega[0]..=expect.omega[1]).contains(&omega) {
         fails.push(format!(
             "Ω = {:.1} rpm outside [{:.1}, {:.1}]",
@@ -64,9 +64,9 @@ pub fn check(
     if !(expect.v0[0]..=expect.v0[1]).contains(&v0) {
         fails.push(format!(
             "V0 = {:.2} m/h outside [{:.2}, {:.2}]",
-            v0 * 3600.0,
-            expect.v0[0] * 3600.0,
-            expect.v0[1] * 3600.0
+            crate::units::to_m_per_h(v0),
+            crate::units::to_m_per_h(expect.v0[0]),
+            crate::units::to_m_per_h(expect.v0[1])
         ));
     }
     if let Some([lo, hi]) = expect.objective
@@ -80,7 +80,7 @@ pub fn check(
             format!(
                 "Ω = {:.1} rpm, V0 = {:.2} m/h, score {score:.3}",
                 rpm(omega),
-                v0 * 3600.0
+                crate::units::to_m_per_h(v0)
             ),
         )
     } else {

@@ -66,7 +66,7 @@ struct CompareJson<'a> {
     version: &'a str,
     seed: u64,
     samples: usize,
-    points: Vec<crate::objective::PointEvaluation>,
+    points: Vec<crate::study::PointEvaluation>,
     work: WorkJson,
 }
 
@@ -94,8 +94,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         .map(|op| {
             let label = format!(
                 "{:.0} rpm, {:.1} m/h",
-                op.omega * 30.0 / std::f64::consts::PI,
-                op.v0 * 3600.0
+                crate::units::to_rpm(op.omega),
+                crate::units::to_m_per_h(op.v0)
             );
             sim::run_problem(&problem, *op, problem.simulation.duration, |_| {}).map(|r| (label, r))
         })

@@ -177,7 +177,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             omega_rad_s: op.omega,
             v0_m_s: op.v0,
             omega_rpm: op.omega * 60.0 / (2.0 * std::f64::consts::PI),
-            v0_m_per_h: op.v0 * 3600.0,
+            v0_m_per_h: crate::units::to_m_per_h(op.v0),
         },
         duration_s: duration,
         settling_time_s: settling,

@@ -1,12 +1,12 @@
 //! `drillopt solve PROBLEM`: the robust optimum, written to `solution.json` with plots.
 
 use super::study::{self, PointJson, WorkJson};
-use crate::objective::PointEvaluation;
-use crate::objective::robust::{ChanceValue, RiskValue};
 use crate::problem::Problem;
 use crate::problem::study::{Constraints, Quantity};
 use crate::report;
 use crate::solve::{self, PathPoint, SolveOutcome};
+use crate::study::PointEvaluation;
+use crate::study::{ChanceValue, RiskValue};
 use clap::Args;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -35,7 +35,7 @@ struct ObjectiveJson {
     score: f64,
     quantity: &'static str,
     quantity_unit: &'static str,
-    statistic: crate::objective::statistic::Statistic,
+    statistic: crate::stats::Statistic,
     quantity_value: f64,
     risk: Vec<RiskValue>,
 }
@@ -87,7 +87,7 @@ struct SolutionJson<'a> {
     optimum: Option<PointJson>,
     objective: Option<ObjectiveJson>,
     metrics: Option<BTreeMap<String, f64>>,
-    metrics_per_sample: Option<Vec<crate::objective::SampleResult>>,
+    metrics_per_sample: Option<Vec<crate::study::SampleResult>>,
     constraints: Option<ConstraintsJson>,
     evaluations: Vec<EvaluationJson>,
     path: &'a [PathPoint],
@@ -140,7 +140,7 @@ fn numerical_check(
             .samples
             .iter()
             .filter_map(|s| match &s.outcome {
-                crate::objective::robust::SampleOutcome::Metrics(m) => m.get(key).copied(),
+                crate::study::SampleOutcome::Metrics(m) => m.get(key).copied(),
                 _ => None,
             })
             .collect();
@@ -319,7 +319,7 @@ fn print_summary(
     problem: &Problem,
     out: &Path,
     outcome: &SolveOutcome,
-    ev: &crate::objective::RobustEvaluator,
+    ev: &crate::study::RobustEvaluator,
 ) {
     use std::sync::atomic::Ordering::Relaxed;
     println!(

@@ -2,8 +2,8 @@
 //! with its progress bar, and the JSON shapes of operating points and evaluations.
 
 use crate::cache::EvalCache;
-use crate::objective::{PointEvaluation, RobustEvaluator};
 use crate::problem::Problem;
+use crate::study::{PointEvaluation, RobustEvaluator};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;

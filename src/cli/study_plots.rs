@@ -1,12 +1,12 @@
 //! The plots of `solve`, `map` and `compare`: study results turned into the plain inputs of
 //! [`crate::report`]'s study plots (Ω in rpm and V0 in m/h on the axes).
 
-use crate::objective::PointEvaluation;
 use crate::problem::Problem;
 use crate::problem::study::Constraints;
 use crate::report::{self, ConstraintLine, EvaluatedPoint, Region};
 use crate::sim::RunOutput;
 use crate::solve::{MapOutcome, SolveOutcome};
+use crate::study::PointEvaluation;
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -66,8 +66,8 @@ fn metric_samples(problem: &Problem, p: &PointEvaluation) -> Vec<(String, Vec<f6
                 .samples
                 .iter()
                 .filter_map(|s| match &s.outcome {
-                    crate::objective::SampleOutcome::Metrics(m) => m.get(&n).copied(),
-                    crate::objective::SampleOutcome::Failed(_) => None,
+                    crate::study::SampleOutcome::Metrics(m) => m.get(&n).copied(),
+                    crate::study::SampleOutcome::Failed(_) => None,
                 })
                 .collect();
             (n, values)

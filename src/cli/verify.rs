@@ -45,7 +45,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
             Refinement::ALL.len(),
             Refinement::ALL.map(|r| r.name()).join(", "),
             op.omega * 60.0 / (2.0 * PI),
-            op.v0 * 3600.0
+            crate::units::to_m_per_h(op.v0)
         );
     }
     let quiet = args.quiet;

@@ -1,7 +1,7 @@
 //! Sanity checks on a recorded time series before any metric is computed from it.
 
 use super::MetricsError;
-use crate::sim::TimeSeries;
+use crate::sim::{CHANNELS, TimeSeries};
 
 /// Refuse an empty series, per-step channels whose length differs from `t`, non-finite samples
 /// (in any real-valued per-step channel, over the whole run) and sample times that do not
@@ -11,25 +11,10 @@ pub(crate) fn check_series(s: &TimeSeries) -> Result<(), MetricsError> {
         return Err(MetricsError::EmptySeries);
     }
     let n = s.len();
-    let mut real: Vec<(String, &[f64])> = vec![
-        ("t".into(), &s.t),
-        ("bit_displacement".into(), &s.bit_displacement),
-        ("bit_velocity".into(), &s.bit_velocity),
-        ("bit_rotation".into(), &s.bit_rotation),
-        ("bit_angular_velocity".into(), &s.bit_angular_velocity),
-        ("weight_on_bit".into(), &s.weight_on_bit),
-        ("torque_on_bit".into(), &s.torque_on_bit),
-        ("top_force".into(), &s.top_force),
-        ("top_torque".into(), &s.top_torque),
-        ("wall_force_total".into(), &s.wall_force_total),
-        ("wall_force_max".into(), &s.wall_force_max),
-        ("max_radial_over_gap".into(), &s.max_radial_over_gap),
-        ("kinetic_energy".into(), &s.kinetic_energy),
-        ("potential_energy".into(), &s.potential_energy),
-        ("work_top".into(), &s.work_top),
-        ("work_bit".into(), &s.work_bit),
-        ("dissipated".into(), &s.dissipated),
-    ];
+    let mut real: Vec<(String, &[f64])> = CHANNELS
+        .iter()
+        .map(|ch| (ch.name.to_string(), ch.values(s)))
+        .collect();
     for (k, probe) in s.probe_radial.iter().enumerate() {
         real.push((format!("probe_radial[{k}]"), probe));
     }

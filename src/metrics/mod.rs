@@ -293,7 +293,7 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
 
     Ok(Metrics {
         mean_rop_m_s: mean_rop,
-        mean_rop_m_per_h: mean_rop * 3600.0,
+        mean_rop_m_per_h: crate::units::to_m_per_h(mean_rop),
         stick_slip_severity: (max_spin - min_spin) / (2.0 * omega),
         stick_slip_severity_raw: {
             let raw = &series.bit_angular_velocity[i0..];

@@ -579,6 +579,6 @@ fn named_values_match_the_serialised_keys_and_keep_infinity() {
     assert_eq!(names, sorted);
     let mse = named.iter().find(|(k, _)| *k == "mse_pa").unwrap().1;
     assert_eq!(mse, f64::INFINITY);
-    let map = crate::objective::robust::metric_map(&m);
+    let map = crate::study::metric_map(&m);
     assert_eq!(map["mse_pa"], f64::INFINITY);
 }

@@ -2,11 +2,13 @@
 //! section constants derived from them. All values are SI.
 
 mod basis;
+pub mod bit;
+pub mod parameters;
 mod params;
 mod section;
 
 pub use basis::{BasisSpec, FamilySize};
-pub use params::{
-    BitRock, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start, WallContact,
-};
+pub use bit::{BitLoad, BitRock, BitRockLaw};
+pub use parameters::{Enters, ParameterKey, ParameterSpec};
+pub use params::{Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start, WallContact};
 pub use section::{Section, cowper_shear_factor};

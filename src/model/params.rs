@@ -35,17 +35,6 @@ pub struct WallContact {
     pub sign_smoothing: f64,
 }
 
-/// Bit–rock interaction law (MODEL.md §6, Eqs. (4), (5)).
-#[derive(Debug, Clone, PartialEq)]
-pub struct BitRock {
-    /// Limit force Γ_BR, N.
-    pub limit_force: f64,
-    /// Rate of change α_BR, s/m.
-    pub rate: f64,
-    /// Friction length μ_BR, m (torque = μ_BR |F_BR| ξ).
-    pub friction: f64,
-}
-
 /// The drillstring, borehole and environment.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drillstring {
@@ -61,7 +50,8 @@ pub struct Drillstring {
     /// Gravitational acceleration g, m/s², acting along −z.
     pub gravity: f64,
     pub wall: WallContact,
-    pub bit: BitRock,
+    /// The bit–rock interaction law and its parameters (MODEL.md §6).
+    pub bit: super::BitRock,
 }
 
 impl Drillstring {

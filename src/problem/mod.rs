@@ -8,12 +8,11 @@ mod error;
 pub mod limits;
 pub mod schema;
 pub mod study;
-pub mod units;
 mod validate;
 mod validate_study;
 
+pub use crate::units::{self, Dimension, UnitError};
 pub use error::ProblemError;
-pub use units::{Dimension, UnitError};
 
 use crate::model::{Drillstring, Mesh, OperatingPoint, Simulation};
 use std::path::{Path, PathBuf};

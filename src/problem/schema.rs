@@ -106,12 +106,15 @@ pub struct WallSection {
     pub sign_smoothing: Option<RawQuantity>,
 }
 
+/// `[model.bit]`: the bit–rock law by name and its parameters, checked against the law's own
+/// table ([`crate::model::bit::BIT_LAWS`]) in validation, so unknown keys are still refused.
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct BitSection {
-    pub limit_force: RawQuantity,
-    pub rate: RawQuantity,
-    pub friction: RawQuantity,
+    /// The law's name; the seed paper's `"exponential"` when omitted.
+    pub law: Option<String>,
+    /// Every other key of the table: the law's parameters by name.
+    #[serde(flatten)]
+    pub parameters: std::collections::BTreeMap<String, RawQuantity>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -8,8 +8,8 @@
 //! `summary.json` (MODEL.md §8), in SI units as named.
 
 use super::schema::RawQuantity;
-use crate::objective::statistic::Statistic;
-use crate::uncertain::Distribution;
+use crate::stats::Distribution;
+use crate::stats::Statistic;
 use serde::Deserialize;
 
 // ---------------------------------------------------------------- raw (as written) ------------
@@ -107,114 +107,7 @@ pub struct ExpectSection {
 
 // ---------------------------------------------------------------- validated -------------------
 
-/// A model parameter that can be declared uncertain, by its key in the problem file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ParameterKey {
-    BitLimitForce,
-    BitRate,
-    BitFriction,
-    WallStiffness,
-    WallDamping,
-    WallFriction,
-    PipeDamping,
-    PipeDensity,
-    YoungsModulus,
-    FluidDensity,
-    BoreholeRadius,
-}
-
-impl ParameterKey {
-    pub const ALL: [ParameterKey; 11] = [
-        ParameterKey::BitLimitForce,
-        ParameterKey::BitRate,
-        ParameterKey::BitFriction,
-        ParameterKey::WallStiffness,
-        ParameterKey::WallDamping,
-        ParameterKey::WallFriction,
-        ParameterKey::PipeDamping,
-        ParameterKey::PipeDensity,
-        ParameterKey::YoungsModulus,
-        ParameterKey::FluidDensity,
-        ParameterKey::BoreholeRadius,
-    ];
-
-    /// The key as written in the problem file.
-    pub fn name(self) -> &'static str {
-        match self {
-            ParameterKey::BitLimitForce => "model.bit.limit_force",
-            ParameterKey::BitRate => "model.bit.rate",
-            ParameterKey::BitFriction => "model.bit.friction",
-            ParameterKey::WallStiffness => "model.wall.stiffness",
-            ParameterKey::WallDamping => "model.wall.damping",
-            ParameterKey::WallFriction => "model.wall.friction",
-            ParameterKey::PipeDamping => "model.pipe.damping",
-            ParameterKey::PipeDensity => "model.pipe.density",
-            ParameterKey::YoungsModulus => "model.pipe.youngs_modulus",
-            ParameterKey::FluidDensity => "model.fluid.density",
-            ParameterKey::BoreholeRadius => "model.borehole.radius",
-        }
-    }
-
-    pub fn parse(text: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| k.name() == text)
-    }
-
-    pub fn dimension(self) -> super::Dimension {
-        use super::Dimension::*;
-        match self {
-            ParameterKey::BitLimitForce => Force,
-            ParameterKey::BitRate => InverseVelocity,
-            ParameterKey::BitFriction => Length,
-            ParameterKey::WallStiffness => Stiffness,
-            ParameterKey::WallDamping => Dimensionless,
-            ParameterKey::WallFriction => Dimensionless,
-            ParameterKey::PipeDamping => Rate,
-            ParameterKey::PipeDensity | ParameterKey::FluidDensity => Density,
-            ParameterKey::YoungsModulus => Pressure,
-            ParameterKey::BoreholeRadius => Length,
-        }
-    }
-
-    /// Whether the parameter enters the linear operators (K, M, C) and so the reduced basis;
-    /// the others (bit, wall, borehole) act only in the nonlinear forces.
-    pub fn changes_reduced_operators(self) -> bool {
-        matches!(
-            self,
-            ParameterKey::PipeDamping
-                | ParameterKey::PipeDensity
-                | ParameterKey::YoungsModulus
-                | ParameterKey::FluidDensity
-        )
-    }
-
-    /// Set the parameter in a drillstring (SI value).
-    pub fn apply(self, s: &mut crate::model::Drillstring, value: f64) {
-        match self {
-            ParameterKey::BitLimitForce => s.bit.limit_force = value,
-            ParameterKey::BitRate => s.bit.rate = value,
-            ParameterKey::BitFriction => s.bit.friction = value,
-            ParameterKey::WallStiffness => s.wall.stiffness = value,
-            ParameterKey::WallDamping => s.wall.damping = value,
-            ParameterKey::WallFriction => s.wall.friction = value,
-            ParameterKey::PipeDamping => s.damping = value,
-            ParameterKey::PipeDensity => s.pipe.density = value,
-            ParameterKey::YoungsModulus => s.pipe.youngs_modulus = value,
-            ParameterKey::FluidDensity => s.fluid_density = value,
-            ParameterKey::BoreholeRadius => s.borehole_radius = value,
-        }
-    }
-
-    /// Whether a value is physically admissible for the parameter (checked per sample).
-    pub fn admissible(self, s: &crate::model::Drillstring, value: f64) -> bool {
-        match self {
-            ParameterKey::BoreholeRadius => value > s.pipe.outer_radius,
-            ParameterKey::FluidDensity | ParameterKey::WallDamping | ParameterKey::PipeDamping => {
-                value >= 0.0
-            }
-            _ => value > 0.0,
-        }
-    }
-}
+pub use crate::model::ParameterKey;
 
 /// One uncertain parameter and its law (SI units).
 #[derive(Debug, Clone, PartialEq)]

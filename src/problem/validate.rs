@@ -2,9 +2,10 @@
 
 use super::schema::*;
 use super::{Dimension, Problem, ProblemError};
+use crate::model::bit::{BIT_LAWS, bit_law};
 use crate::model::{
-    BasisSpec, BitRock, Drillstring, FamilySize, Mesh, OperatingPoint, Pipe, Simulation, Start,
-    WallContact, cowper_shear_factor,
+    BasisSpec, BitRock, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec, Pipe,
+    Simulation, Start, WallContact, cowper_shear_factor,
 };
 use std::path::Path;
 
@@ -88,6 +89,27 @@ impl Checker<'_> {
     ) -> Result<f64, ProblemError> {
         let v = self.finite(key, raw, dim)?;
         self.admissible(key, v, dim)
+    }
+
+    /// A finite value of a declared parameter, in SI units, within the parameter's range.
+    pub(super) fn spec_value(
+        &self,
+        spec: &ParameterSpec,
+        raw: &RawQuantity,
+    ) -> Result<f64, ProblemError> {
+        let v = self.finite(spec.key, raw, spec.dimension)?;
+        if spec.range.contains(v) {
+            Ok(v)
+        } else {
+            Err(self.fail(
+                spec.key,
+                format!(
+                    "must be {}, got {v} {}",
+                    spec.range.describe(spec.dimension),
+                    spec.dimension.si_unit()
+                ),
+            ))
+        }
     }
 
     /// A finite value in SI units (no range check).
@@ -224,12 +246,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
             None => DEFAULT_SIGN_SMOOTHING,
         },
     };
-    let b = &m.bit;
-    let bit = BitRock {
-        limit_force: c.non_negative("model.bit.limit_force", &b.limit_force, Force)?,
-        rate: c.positive("model.bit.rate", &b.rate, InverseVelocity)?,
-        friction: c.non_negative("model.bit.friction", &b.friction, Length)?,
-    };
+    let bit = bit_rock(c, &m.bit)?;
     Ok(Drillstring {
         length,
         pipe,
@@ -240,6 +257,45 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         wall,
         bit,
     })
+}
+
+/// `[model.bit]`: the law named by `law` (the registry's first when omitted), every parameter of
+/// its table read and checked against its range, unknown keys refused.
+fn bit_rock(c: &Checker, b: &BitSection) -> Result<BitRock, ProblemError> {
+    let entry = match &b.law {
+        None => &BIT_LAWS[0],
+        Some(name) => bit_law(name).ok_or_else(|| {
+            let names: Vec<String> = BIT_LAWS.iter().map(|e| format!("{:?}", e.name)).collect();
+            c.fail(
+                "model.bit.law",
+                format!("must be one of {}, got {name:?}", names.join(", ")),
+            )
+        })?,
+    };
+    let names: Vec<&str> = entry.parameters.iter().map(|p| p.name()).collect();
+    if let Some(unknown) = b.parameters.keys().find(|k| !names.contains(&k.as_str())) {
+        return Err(c.fail(
+            &format!("model.bit.{unknown}"),
+            format!(
+                "is not a parameter of law = {:?}; its parameters are {}",
+                entry.name,
+                names.join(", ")
+            ),
+        ));
+    }
+    let values = entry
+        .parameters
+        .iter()
+        .map(|p| match (b.parameters.get(p.name()), p.default) {
+            (Some(raw), _) => c.spec_value(p, raw),
+            (None, Some(default)) => Ok(default),
+            (None, None) => Err(c.fail(
+                p.key,
+                format!("is required by law = {:?} ({})", entry.name, p.doc),
+            )),
+        })
+        .collect::<Result<Vec<f64>, _>>()?;
+    Ok(BitRock::from_entry(entry, &values))
 }
 
 fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {

@@ -6,8 +6,8 @@ use super::schema::{ProblemFile, RawQuantity};
 use super::study::*;
 use super::validate::Checker;
 use crate::model::Drillstring;
-use crate::objective::statistic::Statistic;
-use crate::uncertain::Distribution;
+use crate::stats::Distribution;
+use crate::stats::Statistic;
 use std::f64::consts::PI;
 
 const GAINS: &str = "one of \"mean\", \"lower_cvar\", \"quantile\", \"min\"";
@@ -76,8 +76,8 @@ fn uncertain(
     let mut params: Vec<UncertainParameter> = Vec::new();
     for (i, p) in u.parameter.iter().enumerate() {
         let at = |k: &str| format!("uncertain.parameter[{i}].{k}");
-        let key = ParameterKey::parse(&p.key).ok_or_else(|| {
-            let names: Vec<_> = ParameterKey::ALL.iter().map(|k| k.name()).collect();
+        let key = ParameterKey::resolve(&p.key, model).ok_or_else(|| {
+            let names = ParameterKey::available(model);
             c.fail(
                 &at("key"),
                 format!("must be one of {}, got {:?}", names.join(", "), p.key),
@@ -86,7 +86,7 @@ fn uncertain(
         if params.iter().any(|q| q.key == key) {
             return Err(c.fail(&at("key"), format!("{:?} is declared twice", p.key)));
         }
-        let dim = key.dimension();
+        let dim = key.spec().dimension;
         let value = |name: &str, v: &Option<RawQuantity>| -> Result<f64, ProblemError> {
             match v {
                 Some(v) => c.value(&at(name), v, dim),
@@ -153,11 +153,11 @@ fn uncertain(
         // A law whose bulk leaves the admissible range would make samples fail, not the
         // optimisation: refuse it here (normal laws are not truncated).
         let lo = law.lower_support().max(law.mean() - 4.0 * law.std_dev());
-        if !key.admissible(model, lo) {
+        if let Err(why) = key.admissible(model, lo) {
             return Err(c.fail(
                 &at("law"),
                 format!(
-                    "puts probability on inadmissible values of {} (mean − 4σ or the lower end = {lo}); use gamma or lognormal for a positive parameter",
+                    "puts probability on inadmissible values of {} (mean − 4σ or the lower end = {lo}; it {why}); use gamma or lognormal for a positive parameter",
                     key.name()
                 ),
             ));

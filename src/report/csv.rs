@@ -13,7 +13,7 @@
 use std::io;
 use std::path::Path;
 
-use crate::sim::TimeSeries;
+use crate::sim::{CHANNELS, TimeSeries};
 
 use super::atomic::write_atomic;
 
@@ -43,37 +43,28 @@ fn write_real(out: &mut String, x: f64) {
     out.push_str(zmij::Buffer::new().format(x));
 }
 
-/// The columns in file order: header name and values.
+/// The columns in file order: header name and values. The real channels come from the one
+/// declaration, [`CHANNELS`], with the contact counts after the top-drive loads; then one column
+/// per probe.
 fn columns(s: &TimeSeries) -> Vec<(String, Values<'_>)> {
-    use Values::{Count32, Count64, Real};
-    let scalar = [
-        ("t_s", Real(&s.t)),
-        ("bit_displacement_m", Real(&s.bit_displacement)),
-        ("bit_velocity_m_s", Real(&s.bit_velocity)),
-        ("bit_rotation_rad", Real(&s.bit_rotation)),
-        ("bit_angular_velocity_rad_s", Real(&s.bit_angular_velocity)),
-        ("weight_on_bit_N", Real(&s.weight_on_bit)),
-        ("torque_on_bit_N_m", Real(&s.torque_on_bit)),
-        ("top_force_N", Real(&s.top_force)),
-        ("top_torque_N_m", Real(&s.top_torque)),
-        ("nodes_in_contact", Count32(&s.nodes_in_contact)),
-        ("contact_onsets", Count64(&s.contact_onsets)),
-        ("wall_force_total_N", Real(&s.wall_force_total)),
-        ("wall_force_max_N", Real(&s.wall_force_max)),
-        ("max_radial_over_gap", Real(&s.max_radial_over_gap)),
-        ("kinetic_energy_J", Real(&s.kinetic_energy)),
-        ("potential_energy_J", Real(&s.potential_energy)),
-        ("work_top_J", Real(&s.work_top)),
-        ("work_bit_J", Real(&s.work_bit)),
-        ("dissipated_J", Real(&s.dissipated)),
-    ];
-    let mut cols: Vec<(String, Values<'_>)> = scalar
-        .into_iter()
-        .map(|(name, v)| (name.to_owned(), v))
-        .collect();
+    let mut cols: Vec<(String, Values<'_>)> = Vec::with_capacity(CHANNELS.len() + 2);
+    for ch in &CHANNELS {
+        cols.push((ch.column_name(), Values::Real(ch.values(s))));
+        // The contact counts sit after the top-drive loads, as in every file written so far.
+        if ch.name == "top_torque" {
+            cols.push((
+                "nodes_in_contact".to_string(),
+                Values::Count32(&s.nodes_in_contact),
+            ));
+            cols.push((
+                "contact_onsets".to_string(),
+                Values::Count64(&s.contact_onsets),
+            ));
+        }
+    }
     for (k, x) in s.probe_positions.iter().enumerate() {
         let r = s.probe_radial.get(k).map_or(&[][..], Vec::as_slice);
-        cols.push((probe_column_name(*x), Real(r)));
+        cols.push((probe_column_name(*x), Values::Real(r)));
     }
     cols
 }

@@ -8,7 +8,7 @@
 //! spin angle out of the strain evaluation avoids cancellation. Nonlinear forces are computed on
 //! the full mesh and projected (Φᵀ).
 
-use super::{BitLoad, NodeContact, bit_rock, wall_contact};
+use super::{BitLoad, NodeContact, wall_contact};
 use crate::fem::{Dof, ElementVector};
 use crate::integrate::{ImplicitSystem, JacobianCoefficients, copy_vector};
 use crate::model::OperatingPoint;
@@ -258,7 +258,7 @@ impl<'m> Dynamics<'m> {
         let bit_node = m.elements();
         let (iu, it) = (Dof::U.at(bit_node), Dof::ThetaX.at(bit_node));
         self.bit = if self.effects.bit {
-            bit_rock(&m.string.bit, self.v_full[iu], self.v_full[it])
+            m.string.bit.load(self.v_full[iu], self.v_full[it])
         } else {
             BitLoad::default()
         };
@@ -270,14 +270,14 @@ impl<'m> Dynamics<'m> {
     /// (number of touching nodes, a hash of which ones, bit on bottom).
     fn signature(&self) -> (u64, u64, bool) {
         let mut count = 0;
-        let mut hash: u64 = 0xcbf29ce484222325;
+        let mut hash = crate::hash::Fnv1a::new();
         for (node, c) in self.contacts.iter().enumerate() {
             if c.active {
                 count += 1;
-                hash = (hash ^ node as u64).wrapping_mul(0x100000001b3);
+                hash.word(node as u64);
             }
         }
-        (count, hash, self.bit.force != 0.0)
+        (count, hash.finish(), self.bit.force != 0.0)
     }
 
     /// What the time history records at a state.
@@ -514,6 +514,9 @@ impl ImplicitSystem for Dynamics<'_> {
             phi.add_dof_outer(-c.cv * b.dforce_dvel, iu, iu, out);
             phi.add_dof_outer(-c.cv * b.dtorque_dvel, it, iu, out);
             phi.add_dof_outer(-c.cv * b.dtorque_dspin, it, it, out);
+            if b.dforce_dspin != 0.0 {
+                phi.add_dof_outer(-c.cv * b.dforce_dspin, iu, it, out);
+            }
         }
     }
 }

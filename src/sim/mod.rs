@@ -1,13 +1,13 @@
-//! One simulation of the nonlinear reduced-order drillstring model: force laws (wall contact,
-//! bit–rock), the recorded time history, and the run itself.
+//! One simulation of the nonlinear reduced-order drillstring model: the wall contact law, the
+//! dynamics (the bit–rock law is the model's, [`crate::model::bit`]), the recorded time history,
+//! and the run itself.
 
-mod bit_rock;
 mod contact;
 mod dynamics;
 mod run;
 mod series;
 
-pub use bit_rock::{BitLoad, bit_rock, xi};
+pub use crate::model::BitLoad;
 pub use contact::{NodeContact, wall_contact};
 pub use dynamics::{Dynamics, Effects, Observation};
 pub use run::{
@@ -15,7 +15,7 @@ pub use run::{
     SimulationError, SolverStats, preloaded_equilibrium, resolving_step, run_problem, simulate,
     static_equilibrium,
 };
-pub use series::TimeSeries;
+pub use series::{CHANNELS, Channel, Frame, TimeSeries};
 
 /// Revision of the simulator's numerics, part of every cache key: bump it with any change that
 /// can move a simulated number (model, basis, start, integrator, metrics), so that results of

@@ -7,6 +7,7 @@
 //! acceleration jumps) and coarsens again afterwards. A run that cannot go on (step below the
 //! minimum, non-finite state, divergence) stops with an error and keeps what it had recorded.
 
+use super::series::Frame;
 use super::{Dynamics, Effects, NodeContact, Observation, TimeSeries};
 use crate::fem::Dof;
 use crate::integrate::{
@@ -298,28 +299,19 @@ impl Recorder {
             }
             _ => (0.0, 0.0, 0.0),
         };
-        s.t.push(t);
-        s.bit_displacement.push(op.v0 * t + obs.bit_u_elastic);
-        s.bit_velocity.push(obs.bit_velocity);
-        s.bit_rotation.push(op.omega * t + obs.bit_theta_elastic);
-        s.bit_angular_velocity.push(obs.bit_spin);
-        s.weight_on_bit.push(-obs.bit.force);
-        s.torque_on_bit.push(-obs.bit.torque);
-        s.top_force.push(obs.top_force);
-        s.top_torque.push(obs.top_torque);
+        s.record(&Frame {
+            t,
+            op: *op,
+            obs: &obs,
+            work_top,
+            work_bit,
+            dissipated,
+        });
         for (k, &x) in probes.iter().enumerate() {
             s.probe_radial[k].push(sys.radial_at(x));
         }
         s.nodes_in_contact.push(obs.nodes_in_contact);
         s.contact_onsets.push(self.onsets);
-        s.wall_force_total.push(obs.wall_force_total);
-        s.wall_force_max.push(obs.wall_force_max);
-        s.max_radial_over_gap.push(obs.max_radial_over_gap);
-        s.kinetic_energy.push(obs.kinetic_energy);
-        s.potential_energy.push(obs.potential_energy);
-        s.work_top.push(work_top);
-        s.work_bit.push(work_bit);
-        s.dissipated.push(dissipated);
         self.last = Some(obs);
     }
 }

@@ -57,7 +57,164 @@ pub struct TimeSeries {
     pub dissipated: Vec<f64>,
 }
 
+/// What the recorder knows at an accepted step: the time, the operating point, the observation
+/// of the state and the work integrated so far.
+pub struct Frame<'a> {
+    /// Time, s.
+    pub t: f64,
+    pub op: crate::model::OperatingPoint,
+    pub obs: &'a super::Observation,
+    /// Cumulative work of the top drive, of the rock on the string, and dissipated energy, J.
+    pub work_top: f64,
+    pub work_bit: f64,
+    pub dissipated: f64,
+}
+
+/// A real-valued per-step channel of [`TimeSeries`], declared once: its name, SI unit, meaning,
+/// how the recorder computes it and where it is stored. The recorder, the CSV writer, the
+/// metrics' sanity checks and [`TimeSeries::slice`] all iterate [`CHANNELS`].
+pub struct Channel {
+    /// Field name, also the stem of the CSV column (`bit_velocity` → `bit_velocity_m_s`).
+    pub name: &'static str,
+    /// SI unit as a driller reads it (`"m/s"`, `"N·m"`), `""` for a pure number.
+    pub unit: &'static str,
+    /// What it is, with sign convention.
+    pub doc: &'static str,
+    record: fn(&Frame) -> f64,
+    get: fn(&TimeSeries) -> &Vec<f64>,
+    get_mut: fn(&mut TimeSeries) -> &mut Vec<f64>,
+}
+
+impl Channel {
+    /// The channel's values in `series`.
+    pub fn values<'a>(&self, series: &'a TimeSeries) -> &'a [f64] {
+        (self.get)(series)
+    }
+
+    /// The CSV header: name and unit (`/` and `·` written `_`), e.g. `torque_on_bit_N_m`.
+    pub fn column_name(&self) -> String {
+        if self.unit.is_empty() {
+            self.name.to_string()
+        } else {
+            format!("{}_{}", self.name, self.unit.replace(['/', '·'], "_"))
+        }
+    }
+}
+
+macro_rules! channel {
+    ($field:ident, $unit:literal, $doc:literal, $record:expr) => {
+        Channel {
+            name: stringify!($field),
+            unit: $unit,
+            doc: $doc,
+            record: $record,
+            get: |s| &s.$field,
+            get_mut: |s| &mut s.$field,
+        }
+    };
+}
+
+/// Every real-valued per-step channel, in file order (the counts and probes follow them in CSV).
+pub static CHANNELS: [Channel; 17] = [
+    channel!(t, "s", "time", |f| f.t),
+    channel!(
+        bit_displacement,
+        "m",
+        "bit axial displacement u(L) = V0 t + elastic part",
+        |f| f.op.v0 * f.t + f.obs.bit_u_elastic
+    ),
+    channel!(
+        bit_velocity,
+        "m/s",
+        "bit axial velocity u̇(L), > 0 advancing",
+        |f| f.obs.bit_velocity
+    ),
+    channel!(
+        bit_rotation,
+        "rad",
+        "bit rotation θx(L) = Ω t + elastic part",
+        |f| f.op.omega * f.t + f.obs.bit_theta_elastic
+    ),
+    channel!(
+        bit_angular_velocity,
+        "rad/s",
+        "bit angular velocity θ̇x(L)",
+        |f| f.obs.bit_spin
+    ),
+    channel!(weight_on_bit, "N", "WOB = −F_BR ≥ 0", |f| -f
+        .obs
+        .bit
+        .force),
+    channel!(
+        torque_on_bit,
+        "N·m",
+        "TOB = −T_BR, positive against positive spin",
+        |f| -f.obs.bit.torque
+    ),
+    channel!(
+        top_force,
+        "N",
+        "axial force of the top drive imposing V0",
+        |f| f.obs.top_force
+    ),
+    channel!(
+        top_torque,
+        "N·m",
+        "torque of the top drive imposing Ω",
+        |f| f.obs.top_torque
+    ),
+    channel!(
+        wall_force_total,
+        "N",
+        "sum over nodes of the wall normal force |F_FS|",
+        |f| f.obs.wall_force_total
+    ),
+    channel!(
+        wall_force_max,
+        "N",
+        "largest wall normal force at any node",
+        |f| f.obs.wall_force_max
+    ),
+    channel!(
+        max_radial_over_gap,
+        "",
+        "largest radial displacement over the gap (> 1: indentation)",
+        |f| f.obs.max_radial_over_gap
+    ),
+    channel!(kinetic_energy, "J", "kinetic energy", |f| f
+        .obs
+        .kinetic_energy),
+    channel!(
+        potential_energy,
+        "J",
+        "strain + wall-contact elastic + gravity energy",
+        |f| f.obs.potential_energy
+    ),
+    channel!(work_top, "J", "cumulative work of the top drive", |f| f
+        .work_top),
+    channel!(
+        work_bit,
+        "J",
+        "cumulative work of the rock on the string (≤ 0 while drilling)",
+        |f| f.work_bit
+    ),
+    channel!(
+        dissipated,
+        "J",
+        "cumulative energy dissipated by damping and wall friction (≥ 0)",
+        |f| f.dissipated
+    ),
+];
+
 impl TimeSeries {
+    /// Append one sample of every channel of [`CHANNELS`] (the counts and probes are the
+    /// recorder's).
+    pub(crate) fn record(&mut self, frame: &Frame) {
+        for ch in &CHANNELS {
+            (ch.get_mut)(self).push((ch.record)(frame));
+        }
+    }
+
     /// Number of recorded samples.
     pub fn len(&self) -> usize {
         self.t.len()
@@ -70,28 +227,16 @@ impl TimeSeries {
     /// The samples `range` of every channel (probe positions kept), as a new series.
     pub fn slice(&self, range: std::ops::Range<usize>) -> TimeSeries {
         let cut = |v: &Vec<f64>| v[range.clone()].to_vec();
-        TimeSeries {
-            t: cut(&self.t),
-            bit_displacement: cut(&self.bit_displacement),
-            bit_velocity: cut(&self.bit_velocity),
-            bit_rotation: cut(&self.bit_rotation),
-            bit_angular_velocity: cut(&self.bit_angular_velocity),
-            weight_on_bit: cut(&self.weight_on_bit),
-            torque_on_bit: cut(&self.torque_on_bit),
-            top_force: cut(&self.top_force),
-            top_torque: cut(&self.top_torque),
+        let mut out = TimeSeries {
             probe_positions: self.probe_positions.clone(),
             probe_radial: self.probe_radial.iter().map(cut).collect(),
             nodes_in_contact: self.nodes_in_contact[range.clone()].to_vec(),
             contact_onsets: self.contact_onsets[range.clone()].to_vec(),
-            wall_force_total: cut(&self.wall_force_total),
-            wall_force_max: cut(&self.wall_force_max),
-            max_radial_over_gap: cut(&self.max_radial_over_gap),
-            kinetic_energy: cut(&self.kinetic_energy),
-            potential_energy: cut(&self.potential_energy),
-            work_top: cut(&self.work_top),
-            work_bit: cut(&self.work_bit),
-            dissipated: cut(&self.dissipated),
+            ..TimeSeries::default()
+        };
+        for ch in &CHANNELS {
+            *(ch.get_mut)(&mut out) = cut((ch.get)(self));
         }
+        out
     }
 }

@@ -8,7 +8,6 @@ mod scaling;
 pub use scaling::Scaling;
 
 use crate::model::OperatingPoint;
-use crate::objective::{PointEvaluation, RobustEvaluator};
 use crate::optimize::{
     BlackBox, Evaluation, IterateCallback, NelderMeadOptions, OptimizeError, SwarmOptions,
     TrustRegionOptions, grid_search, minimize_nelder_mead, minimize_particle_swarm,
@@ -16,6 +15,7 @@ use crate::optimize::{
 };
 use crate::problem::Problem;
 use crate::problem::study::{Constraints, Method};
+use crate::study::{PointEvaluation, RobustEvaluator};
 use serde::Serialize;
 use std::sync::Mutex;
 

@@ -29,7 +29,7 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use super::Distribution;
 
@@ -65,7 +65,7 @@ pub fn sample_rng(seed: u64) -> SampleRng {
 }
 
 /// One Monte Carlo sample: the values of the uncertain parameters, in declaration order.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Sample {
     /// Position of the sample in its set, from 0.
     pub index: usize,
@@ -94,7 +94,7 @@ impl Sample {
 }
 
 /// The samples of one robust evaluation, with the master seed they came from.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SampleSet {
     /// Seed from which every sample seed is derived.
     pub master_seed: u64,

@@ -1,7 +1,6 @@
-//! Uncertain parameters: probability laws and seeded Monte Carlo samples (issue 4).
-//!
-//! A robust objective averages (or takes a risk measure of) a metric over samples of the
-//! uncertain parameters. This module owns the two halves of that:
+//! Statistics low in the house: the laws of uncertain parameters, seeded Monte Carlo samples, and
+//! the statistics of a metric over samples. The problem layer reads laws and statistics from
+//! problem files; the study layer draws samples and scores points with them.
 //!
 //! * [`Distribution`]: the law of one uncertain parameter — Gamma (the maximum-entropy law for a
 //!   positive parameter of given mean and E\[ln X\], used for bit–rock parameters by Ritto, Soize
@@ -10,14 +9,18 @@
 //! * [`SampleSet`]: `n` samples drawn from a master seed so that sample `i` is a pure function of
 //!   (master seed, `i`, the laws) — the same whatever `n`, the thread count or the evaluation
 //!   order. See [`sample_seed`] for the seed derivation and [`sample_rng`] for the generator.
+//! * [`Statistic`]: mean, standard deviation, quantile, CVaR (upper and lower), probability of
+//!   exceedance, max and min of one metric over the samples.
 //!
-//! Values are in the units of the parameter they describe; this module does not know them.
+//! Values are in the units of the parameter or metric they describe; this module does not know them.
 
 mod distribution;
 mod sampling;
+mod statistic;
 
 #[cfg(test)]
 mod tests;
 
 pub use distribution::{Distribution, lognormal_log_params};
 pub use sampling::{Sample, SampleRng, SampleSet, sample_rng, sample_seed, splitmix64_mix};
+pub use statistic::{Statistic, cvar, lower_cvar, max, mean, min, prob_exceed, quantile, std_dev};

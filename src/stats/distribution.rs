@@ -17,13 +17,15 @@
 //! Cunha Jr, Soize & Sampaio (2015) for the bit–rock interaction parameters.
 
 use rand_distr::Distribution as _;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 /// The law of one uncertain parameter, in the parameter's own units.
 ///
-/// Serialised with an internal tag, e.g. `{ law = "gamma", mean = 1.0, cov = 0.1 }` in TOML.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "law", rename_all = "snake_case", deny_unknown_fields)]
+/// Read from problem files by [`crate::problem`] (one schema: `law = "gamma" | "lognormal" |
+/// "normal" | "uniform"`); serialised in reports with the same names and keys,
+/// e.g. `{"law": "gamma", "mean": 1.0, "cov": 0.1}`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "law", rename_all = "lowercase")]
 pub enum Distribution {
     /// Gamma law of mean `mean` (> 0) and coefficient of variation `cov` = std/mean (> 0).
     Gamma { mean: f64, cov: f64 },
@@ -69,8 +71,8 @@ impl Distribution {
                 positive("gamma", "cov", cov)
             }
             Self::LogNormal { mean, cov } => {
-                positive("log_normal", "mean", mean)?;
-                positive("log_normal", "cov", cov)
+                positive("lognormal", "mean", mean)?;
+                positive("lognormal", "cov", cov)
             }
             Self::Normal { mean, std } => {
                 finite("normal", "mean", mean)?;
@@ -252,14 +254,14 @@ mod tests {
                     mean: -2.0,
                     cov: 0.1,
                 },
-                &["log_normal", "`mean`", "> 0"],
+                &["lognormal", "`mean`", "> 0"],
             ),
             (
                 LogNormal {
                     mean: 2.0,
                     cov: -0.1,
                 },
-                &["log_normal", "`cov`", "> 0"],
+                &["lognormal", "`cov`", "> 0"],
             ),
             (
                 Normal {
@@ -335,28 +337,21 @@ mod tests {
     }
 
     #[test]
-    fn serde_names() {
-        let g: Distribution =
-            serde_json::from_str(r#"{"law":"gamma","mean":2.0,"cov":0.1}"#).unwrap();
+    fn reports_use_the_problem_file_names() {
+        let json = |d: Distribution| serde_json::to_string(&d).unwrap();
         assert_eq!(
-            g,
-            Distribution::Gamma {
+            json(Distribution::Gamma {
                 mean: 2.0,
                 cov: 0.1
-            }
+            }),
+            r#"{"law":"gamma","mean":2.0,"cov":0.1}"#
         );
-        let l: Distribution =
-            serde_json::from_str(r#"{"law":"log_normal","mean":2.0,"cov":0.1}"#).unwrap();
         assert_eq!(
-            l,
-            Distribution::LogNormal {
+            json(Distribution::LogNormal {
                 mean: 2.0,
                 cov: 0.1
-            }
-        );
-        assert!(
-            serde_json::from_str::<Distribution>(r#"{"law":"gamma","mean":2.0,"std":0.1}"#)
-                .is_err()
+            }),
+            r#"{"law":"lognormal","mean":2.0,"cov":0.1}"#
         );
     }
 

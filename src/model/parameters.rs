@@ -1,0 +1,329 @@
+//! The scalar parameters of the model that a study may vary, declared once: key, dimension,
+//! admissible range, which operators they enter and how to set them. The problem layer reads
+//! and checks them through this table, the Monte Carlo runner applies sampled values through it,
+//! and the reduced-model cache asks it whether a sample needs its own modes.
+//!
+//! The bit–rock law's parameters come from the law itself ([`super::bit`]); [`ParameterKey`]
+//! resolves a key against both.
+
+use super::Drillstring;
+use crate::units::{Dimension, Range};
+use std::fmt;
+
+/// One scalar input: its problem-file key, dimension, admissible range and meaning.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParameterSpec {
+    /// Full dotted key in the problem file (`model.wall.friction`).
+    pub key: &'static str,
+    /// Fixes the units the value may be written in.
+    pub dimension: Dimension,
+    /// Values a problem file (and every Monte Carlo sample) may take, SI.
+    pub range: Range,
+    /// Value (SI) when the problem file omits the key; `None`: the key is required.
+    pub default: Option<f64>,
+    /// A typical value (SI), inside the range: documentation and tests.
+    pub example: f64,
+    /// What the parameter is, with its symbol.
+    pub doc: &'static str,
+}
+
+impl ParameterSpec {
+    /// The last component of the key (`friction` for `model.wall.friction`).
+    pub fn name(&self) -> &'static str {
+        self.key.rsplit('.').next().unwrap_or(self.key)
+    }
+}
+
+/// Which operators of the discretised model a parameter enters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Enters {
+    /// The linear operators K, M, C: a changed value needs its own modes.
+    LinearOperators,
+    /// Only the nonlinear forces (bit, wall contact, borehole gap): the modes are shared.
+    NonlinearForces,
+}
+
+/// A parameter of the string (not of its bit law).
+pub struct StringParameter {
+    pub spec: ParameterSpec,
+    pub enters: Enters,
+    field: fn(&mut Drillstring) -> &mut f64,
+    /// A bound set by another property of the string: the value must exceed it.
+    above: Option<Above>,
+}
+
+/// A lower bound that another property of the string sets, and its name for messages.
+type Above = (fn(&Drillstring) -> f64, &'static str);
+
+impl fmt::Debug for StringParameter {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("StringParameter")
+            .field("key", &self.spec.key)
+            .field("enters", &self.enters)
+            .finish()
+    }
+}
+
+const fn row(
+    key: &'static str,
+    dimension: Dimension,
+    range: Range,
+    example: f64,
+    enters: Enters,
+    field: fn(&mut Drillstring) -> &mut f64,
+    doc: &'static str,
+) -> StringParameter {
+    StringParameter {
+        spec: ParameterSpec {
+            key,
+            dimension,
+            range,
+            default: None,
+            example,
+            doc,
+        },
+        enters,
+        field,
+        above: None,
+    }
+}
+
+use Dimension as D;
+use Enters::{LinearOperators as Linear, NonlinearForces as Nonlinear};
+
+/// The string's parameters a study may declare uncertain.
+pub static STRING_PARAMETERS: [StringParameter; 9] = [
+    row(
+        "model.wall.stiffness",
+        D::Stiffness,
+        Range::closed(0.0, 1e14, "contact stiffness of rock"),
+        1e10,
+        Nonlinear,
+        |s| &mut s.wall.stiffness,
+        "linear contact stiffness k_FS1 of the borehole wall",
+    ),
+    row(
+        "model.wall.cubic_stiffness",
+        D::CubicStiffness,
+        Range::closed(0.0, 1e22, "cubic contact stiffness"),
+        1e16,
+        Nonlinear,
+        |s| &mut s.wall.cubic_stiffness,
+        "cubic contact stiffness k_FS2 of the borehole wall",
+    ),
+    row(
+        "model.wall.damping",
+        D::Dimensionless,
+        Range::closed(0.0, 1e15, "Hunt-Crossley damping c_FS"),
+        1e8,
+        Nonlinear,
+        |s| &mut s.wall.damping,
+        "Hunt-Crossley contact damping c_FS, N·s/m⁴",
+    ),
+    row(
+        "model.wall.friction",
+        D::Dimensionless,
+        Range::closed(0.0, 2.0, "a Coulomb friction coefficient"),
+        0.25,
+        Nonlinear,
+        |s| &mut s.wall.friction,
+        "Coulomb friction coefficient μ_FS of the wall",
+    ),
+    row(
+        "model.pipe.damping",
+        D::Rate,
+        Range::closed(0.0, 1e3, "mass-proportional damping c"),
+        0.01,
+        Linear,
+        |s| &mut s.damping,
+        "mass-proportional damping c (C = c M)",
+    ),
+    row(
+        "model.pipe.density",
+        D::Density,
+        Range::closed(1e3, 25e3, "from light alloys to tungsten"),
+        7850.0,
+        Linear,
+        |s| &mut s.pipe.density,
+        "steel density ρ",
+    ),
+    row(
+        "model.pipe.youngs_modulus",
+        D::Pressure,
+        Range::closed(1e9, 1e12, "from polymers to tungsten carbide"),
+        203e9,
+        Linear,
+        |s| &mut s.pipe.youngs_modulus,
+        "Young's modulus E",
+    ),
+    row(
+        "model.fluid.density",
+        D::Density,
+        Range::closed(0.0, 3e3, "from air to the heaviest muds"),
+        1200.0,
+        Linear,
+        |s| &mut s.fluid_density,
+        "drilling-fluid density ρ_f (added lateral mass)",
+    ),
+    StringParameter {
+        above: Some((|s| s.pipe.outer_radius, "the pipe's outer radius")),
+        ..row(
+            "model.borehole.radius",
+            D::Length,
+            Range::open(0.0, 2.0, "a hole of at most 4 m across"),
+            0.1,
+            Nonlinear,
+            |s| &mut s.borehole_radius,
+            "borehole radius R_bh",
+        )
+    },
+];
+
+/// A model parameter a study can vary: a row of [`STRING_PARAMETERS`] or a parameter of the
+/// string's bit–rock law.
+#[derive(Debug, Clone, Copy)]
+pub struct ParameterKey {
+    spec: &'static ParameterSpec,
+    target: Target,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Target {
+    String(&'static StringParameter),
+    Bit(usize),
+}
+
+impl PartialEq for ParameterKey {
+    fn eq(&self, other: &Self) -> bool {
+        self.spec.key == other.spec.key
+    }
+}
+
+impl Eq for ParameterKey {}
+
+impl ParameterKey {
+    /// The parameter called `key` in a string with this bit law, if it can be varied.
+    pub fn resolve(key: &str, string: &Drillstring) -> Option<Self> {
+        if let Some(row) = STRING_PARAMETERS.iter().find(|r| r.spec.key == key) {
+            return Some(ParameterKey {
+                spec: &row.spec,
+                target: Target::String(row),
+            });
+        }
+        let law = string.bit.law();
+        let index = law.parameters().iter().position(|p| p.key == key)?;
+        Some(ParameterKey {
+            spec: &law.parameters()[index],
+            target: Target::Bit(index),
+        })
+    }
+
+    /// Every key that can be varied in this string.
+    pub fn available(string: &Drillstring) -> Vec<&'static str> {
+        let fixed = STRING_PARAMETERS.iter().map(|r| r.spec.key);
+        fixed
+            .chain(string.bit.law().parameters().iter().map(|p| p.key))
+            .collect()
+    }
+
+    /// The key as written in the problem file.
+    pub fn name(&self) -> &'static str {
+        self.spec.key
+    }
+
+    /// Dimension, range and meaning.
+    pub fn spec(&self) -> &'static ParameterSpec {
+        self.spec
+    }
+
+    /// Which operators the parameter enters (bit-law parameters act in the forces only).
+    pub fn enters(&self) -> Enters {
+        match self.target {
+            Target::String(row) => row.enters,
+            Target::Bit(_) => Enters::NonlinearForces,
+        }
+    }
+
+    /// Set the parameter in a drillstring (SI value).
+    pub fn apply(&self, string: &mut Drillstring, value: f64) {
+        match self.target {
+            Target::String(row) => *(row.field)(string) = value,
+            Target::Bit(index) => string.bit.set(index, value),
+        }
+    }
+
+    /// `Ok` if `value` is admissible in `string` (its range and any bound set by the string),
+    /// else what is allowed, in words.
+    pub fn admissible(&self, string: &Drillstring, value: f64) -> Result<(), String> {
+        let range = self.spec.range;
+        if !range.contains(value) {
+            return Err(format!("must be {}", range.describe(self.spec.dimension)));
+        }
+        if let Target::String(StringParameter {
+            above: Some((bound, what)),
+            ..
+        }) = self.target
+        {
+            let b = bound(string);
+            if value <= b {
+                return Err(format!(
+                    "must exceed {what}, {b} {}",
+                    self.spec.dimension.si_unit()
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn seed() -> Drillstring {
+        crate::problem::Problem::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/seed_mc2014.toml"
+        ))
+        .unwrap()
+        .model
+    }
+
+    #[test]
+    fn every_key_resolves_sets_its_own_field_and_nothing_else() {
+        let s = seed();
+        for key in ParameterKey::available(&s) {
+            let k = ParameterKey::resolve(key, &s).unwrap();
+            assert_eq!(k.name(), key);
+            let mut t = s.clone();
+            let value = k.spec().example * 1.01;
+            k.apply(&mut t, value);
+            assert_ne!(t, s, "{key} changed nothing");
+            // Setting it back restores the string exactly: the setter touched one field.
+            let mut back = t.clone();
+            let original = match k.target {
+                Target::String(row) => *(row.field)(&mut s.clone()),
+                Target::Bit(i) => s.bit.law().value(i),
+            };
+            k.apply(&mut back, original);
+            assert_eq!(back, s, "{key}");
+        }
+        assert!(ParameterKey::resolve("model.bit.limit_force", &s).is_some());
+        assert!(ParameterKey::resolve("model.bit.radius", &s).is_none());
+        assert!(ParameterKey::resolve("model.length", &s).is_none());
+    }
+
+    #[test]
+    fn operators_and_admissibility() {
+        let s = seed();
+        let k = |key| ParameterKey::resolve(key, &s).unwrap();
+        assert_eq!(k("model.pipe.density").enters(), Enters::LinearOperators);
+        assert_eq!(k("model.bit.rate").enters(), Enters::NonlinearForces);
+        assert_eq!(k("model.borehole.radius").enters(), Enters::NonlinearForces);
+        let r = k("model.borehole.radius");
+        assert!(r.admissible(&s, s.pipe.outer_radius).is_err());
+        assert!(r.admissible(&s, s.pipe.outer_radius * 1.1).is_ok());
+        assert!(k("model.wall.friction").admissible(&s, 3.0).is_err());
+        assert!(k("model.wall.friction").admissible(&s, f64::NAN).is_err());
+    }
+}

@@ -1,0 +1,268 @@
+//! The robust evaluation of operating points: every point is simulated for every Monte Carlo
+//! sample (the same samples at every point: common random numbers) and scored by [`super::score`].
+//!
+//! The (point, sample) simulations of a batch are handed to a [`SampleExecutor`] (threads by
+//! default); each result is looked up in, and stored to, the evaluation cache first, so no
+//! simulation runs twice and an interrupted run resumes without losing finished work. A
+//! simulation that fails (diverges, leaves the finite range, cannot step) makes its point
+//! infeasible; it is recorded, never a crash.
+
+use super::executor::{SampleExecutor, SampleJob, Threads};
+use super::score::{PointEvaluation, SampleOutcome, SampleResult, metric_map, score};
+use crate::cache::{CacheKey, EvalCache, EvalInfo, Outcome, stable_hash};
+use crate::metrics::{self, MetricsConfig};
+use crate::model::{Drillstring, Enters, OperatingPoint};
+use crate::problem::Problem;
+use crate::rom::{BasisError, ReducedModel};
+use crate::sim::{Effects, InitialState, RunSettings, simulate};
+use crate::stats::{Distribution, SampleSet};
+use rayon::prelude::*;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// Counters of work done (for notes and the resume test).
+#[derive(Debug, Default)]
+pub struct WorkCounters {
+    /// Simulations actually run.
+    pub simulated: AtomicUsize,
+    /// Simulations answered by the cache.
+    pub cached: AtomicUsize,
+    /// Simulations that failed.
+    pub failed: AtomicUsize,
+}
+
+/// Evaluates operating points of one problem robustly.
+pub struct RobustEvaluator<'a> {
+    pub problem: &'a Problem,
+    pub samples: SampleSet,
+    /// One reduced model per sample (shared when no uncertain parameter changes the operators).
+    models: Vec<Arc<ReducedModel>>,
+    settings: RunSettings,
+    cache: Option<&'a EvalCache>,
+    pub model_hash: u64,
+    pub counters: WorkCounters,
+    progress: Option<Box<dyn Fn() + Sync + 'a>>,
+    executor: Box<dyn SampleExecutor + 'a>,
+}
+
+/// Why the evaluator could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    #[error("modal analysis of sample {sample}: {source}")]
+    Modes { sample: usize, source: BasisError },
+    #[error(
+        "sample {sample} draws {key} = {value}, which is not admissible (it {why}); narrow its law in [[uncertain.parameter]]"
+    )]
+    Inadmissible {
+        sample: usize,
+        key: &'static str,
+        value: f64,
+        why: String,
+    },
+}
+
+/// Hash of everything that determines a simulation's result apart from the operating point and
+/// the sample: drillopt's version, the model, mesh, simulation window and uncertain laws.
+pub fn model_hash(problem: &Problem) -> u64 {
+    let laws: Vec<(&str, Distribution)> = problem
+        .study
+        .uncertain
+        .iter()
+        .map(|u| (u.key.name(), u.law))
+        .collect();
+    let text = format!(
+        "drillopt {} rev {}|{:?}|{:?}|{:?}|{:?}",
+        crate::VERSION,
+        crate::sim::SIMULATOR_REVISION,
+        problem.model,
+        problem.mesh,
+        problem.simulation,
+        laws
+    );
+    stable_hash(text.as_bytes())
+}
+
+impl<'a> RobustEvaluator<'a> {
+    /// Draw the samples and build the reduced models.
+    pub fn new(problem: &'a Problem, cache: Option<&'a EvalCache>) -> Result<Self, SetupError> {
+        let study = &problem.study;
+        let laws: Vec<Distribution> = study.uncertain.iter().map(|u| u.law).collect();
+        let samples = SampleSet::draw_or_nominal(&laws, study.samples, study.seed);
+        let strings = samples
+            .samples
+            .iter()
+            .map(|s| {
+                let mut string = problem.model.clone();
+                for (u, &value) in study.uncertain.iter().zip(&s.values) {
+                    if let Err(why) = u.key.admissible(&string, value) {
+                        return Err(SetupError::Inadmissible {
+                            sample: s.index,
+                            key: u.key.name(),
+                            value,
+                            why,
+                        });
+                    }
+                    u.key.apply(&mut string, value);
+                }
+                Ok(string)
+            })
+            .collect::<Result<Vec<Drillstring>, _>>()?;
+        let rebuild = study
+            .uncertain
+            .iter()
+            .any(|u| u.key.enters() == Enters::LinearOperators);
+        let build = |i: usize, s: &Drillstring| {
+            ReducedModel::new(s, problem.mesh.elements, &problem.mesh.basis)
+                .map_err(|source| SetupError::Modes { sample: i, source })
+        };
+        let models = if rebuild {
+            strings
+                .par_iter()
+                .enumerate()
+                .map(|(i, s)| build(i, s).map(Arc::new))
+                .collect::<Result<Vec<_>, _>>()?
+        } else {
+            let nominal = build(0, &problem.model)?;
+            strings
+                .iter()
+                .map(|s| {
+                    // Bit, wall and borehole parameters act in the nonlinear forces only.
+                    let mut m = nominal.clone();
+                    m.string = s.clone();
+                    Arc::new(m)
+                })
+                .collect()
+        };
+        let mut settings =
+            RunSettings::new(problem.simulation.duration, problem.simulation.time_step);
+        settings.probes = problem.simulation.probes.clone();
+        Ok(RobustEvaluator {
+            problem,
+            samples,
+            models,
+            settings,
+            cache,
+            model_hash: model_hash(problem),
+            counters: WorkCounters::default(),
+            progress: None,
+            executor: Box::new(Threads),
+        })
+    }
+
+    /// Call `f` after every finished simulation (cached or run), e.g. to tick a progress bar.
+    pub fn with_progress(mut self, f: impl Fn() + Sync + 'a) -> Self {
+        self.progress = Some(Box::new(f));
+        self
+    }
+
+    /// Run the simulations with `executor` instead of the default [`Threads`].
+    pub fn with_executor(mut self, executor: impl SampleExecutor + 'a) -> Self {
+        self.executor = Box::new(executor);
+        self
+    }
+
+    /// What runs the simulations ("2 threads").
+    pub fn executor(&self) -> &dyn SampleExecutor {
+        self.executor.as_ref()
+    }
+
+    /// Simulations per point.
+    pub fn samples_per_point(&self) -> usize {
+        self.samples.len()
+    }
+
+    /// Evaluate several points: their (point, sample) simulations form one batch for the executor.
+    pub fn evaluate(&self, points: &[OperatingPoint]) -> Vec<PointEvaluation> {
+        let n = self.samples.len();
+        let jobs: Vec<SampleJob> = points
+            .iter()
+            .flat_map(|&op| (0..n).map(move |sample| SampleJob { op, sample }))
+            .collect();
+        let results = self
+            .executor
+            .execute(&jobs, &|job| self.run_sample(job.op, job.sample));
+        points
+            .iter()
+            .zip(results.chunks(n))
+            .map(|(op, s)| self.score(*op, s.to_vec()))
+            .collect()
+    }
+
+    fn run_sample(&self, op: OperatingPoint, index: usize) -> SampleResult {
+        let sample = &self.samples.samples[index];
+        let key = CacheKey::new(op.omega, op.v0, index, sample.seed, self.model_hash);
+        let done = |outcome: SampleOutcome, cached: bool| {
+            if let Some(p) = &self.progress {
+                p();
+            }
+            SampleResult {
+                sample: index,
+                seed: sample.seed,
+                outcome,
+                cached,
+            }
+        };
+        if let Some(hit) = self.cache.and_then(|c| c.get(&key)) {
+            self.counters.cached.fetch_add(1, Ordering::Relaxed);
+            return done(from_cache(hit), true);
+        }
+        let clock = Instant::now();
+        let outcome = self.simulate(op, index);
+        self.counters.simulated.fetch_add(1, Ordering::Relaxed);
+        if matches!(outcome, SampleOutcome::Failed(_)) {
+            self.counters.failed.fetch_add(1, Ordering::Relaxed);
+        }
+        if let Some(cache) = self.cache {
+            let stored = match &outcome {
+                SampleOutcome::Metrics(m) => Outcome::Ok { metrics: m.clone() },
+                SampleOutcome::Failed(msg) => Outcome::Failed {
+                    message: msg.clone(),
+                },
+            };
+            let info = EvalInfo {
+                wall_time_s: Some(clock.elapsed().as_secs_f64()),
+                version: Some(crate::VERSION.to_string()),
+            };
+            // A cache that cannot be written costs a re-simulation later, never this result.
+            if let Err(e) = cache.insert_with_info(key, stored, Some(info)) {
+                eprintln!("warning: {e}");
+            }
+        }
+        done(outcome, false)
+    }
+
+    fn simulate(&self, op: OperatingPoint, index: usize) -> SampleOutcome {
+        let model = &self.models[index];
+        let out = simulate(
+            model,
+            op,
+            Effects::ALL,
+            &self.settings,
+            InitialState::from(self.problem.simulation.start),
+            |_| {},
+        );
+        if let Some(e) = out.error {
+            return SampleOutcome::Failed(e.to_string());
+        }
+        let sim = &self.problem.simulation;
+        let settling = sim.settling_time.min(0.5 * sim.duration);
+        let config = MetricsConfig::new(op.omega, op.v0, model.string.borehole_radius, settling);
+        match metrics::compute(&out.series, &config) {
+            Ok(m) => SampleOutcome::Metrics(metric_map(&m)),
+            Err(e) => SampleOutcome::Failed(format!("metrics: {e}")),
+        }
+    }
+
+    /// Combine the samples of one point into its score, risk terms and chance constraints.
+    pub fn score(&self, op: OperatingPoint, samples: Vec<SampleResult>) -> PointEvaluation {
+        score(&self.problem.study, op, samples)
+    }
+}
+
+fn from_cache(o: Outcome) -> SampleOutcome {
+    match o {
+        Outcome::Ok { metrics } => SampleOutcome::Metrics(metrics),
+        Outcome::Failed { message } => SampleOutcome::Failed(message),
+    }
+}

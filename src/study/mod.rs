@@ -1,0 +1,21 @@
+//! The robust study of operating points (issue 4): Monte Carlo samples of the uncertain
+//! parameters are simulated at every point by a [`SampleExecutor`], and their metrics are
+//! combined into a score and chance constraints.
+//!
+//! * [`evaluator`]: [`RobustEvaluator`] draws the samples, builds the reduced models, forms each
+//!   batch of (point, sample) jobs and goes through the evaluation cache;
+//! * [`executor`]: who runs a batch ([`Threads`] by default, [`Serial`] as a reference);
+//! * [`score`]: statistic of the quantity minus risk penalties, chance constraints, feasibility.
+//!
+//! The statistics themselves live in [`crate::stats`], shared with the problem layer.
+
+pub mod evaluator;
+pub mod executor;
+pub mod score;
+
+pub use evaluator::{RobustEvaluator, SetupError, WorkCounters, model_hash};
+pub use executor::{SampleExecutor, SampleJob, Serial, Threads};
+pub use score::{
+    ChanceValue, PointEvaluation, RiskValue, SampleOutcome, SampleResult, deterministic_violations,
+    metric_map, score,
+};

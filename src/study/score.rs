@@ -1,0 +1,299 @@
+//! The score of an operating point from its Monte Carlo samples: the statistic of the quantity
+//! (ROP or efficiency) minus the weighted risk terms, the chance constraints estimated from the
+//! samples, and the bounds and linear constraints (conventions in [`crate::problem::study`]).
+
+use crate::model::OperatingPoint;
+use crate::problem::study::{Quantity, Study};
+use crate::stats::{self, Statistic};
+use crate::units::{to_m_per_h, to_rpm};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// The outcome of one sample at one point.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SampleResult {
+    pub sample: usize,
+    pub seed: u64,
+    /// Metric name → value (the keys of `summary.json`), or why the simulation failed.
+    #[serde(flatten)]
+    pub outcome: SampleOutcome,
+    /// Taken from the evaluation cache rather than simulated now.
+    pub cached: bool,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SampleOutcome {
+    Metrics(BTreeMap<String, f64>),
+    Failed(String),
+}
+
+/// One risk term at a point: the statistic of the metric and its weighted share of the score.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RiskValue {
+    pub metric: String,
+    pub statistic: Statistic,
+    pub value: f64,
+    pub weight: f64,
+    pub penalty: f64,
+}
+
+/// One chance constraint at a point: estimated P(metric > threshold) against its limit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChanceValue {
+    pub metric: String,
+    pub threshold: f64,
+    pub probability: f64,
+    pub max_probability: f64,
+    pub satisfied: bool,
+}
+
+/// The robust evaluation of one operating point.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PointEvaluation {
+    pub omega_rad_s: f64,
+    pub v0_m_s: f64,
+    pub omega_rpm: f64,
+    pub v0_m_per_h: f64,
+    /// The score (maximised); None when a sample failed.
+    pub objective: Option<f64>,
+    /// Statistic of the quantity (ROP in m/h or efficiency) before the risk penalties.
+    pub quantity: Option<f64>,
+    pub risk: Vec<RiskValue>,
+    pub chance: Vec<ChanceValue>,
+    /// No sample failed and every chance constraint holds.
+    pub feasible: bool,
+    /// Why the point is infeasible or failed, if it is.
+    pub failure: Option<String>,
+    /// Mean of every metric over the samples (when none failed).
+    pub mean_metrics: BTreeMap<String, f64>,
+    pub samples: Vec<SampleResult>,
+}
+
+impl PointEvaluation {
+    pub fn op(&self) -> OperatingPoint {
+        OperatingPoint {
+            omega: self.omega_rad_s,
+            v0: self.v0_m_s,
+        }
+    }
+}
+
+/// Metric name → value (the keys of `summary.json`), non-finite values kept: an MSE of +∞ (the
+/// bit did not advance) is a risk of +∞, not a NaN.
+pub fn metric_map(m: &crate::metrics::Metrics) -> BTreeMap<String, f64> {
+    m.named_values()
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
+        .collect()
+}
+
+/// Relative slack allowed on the bounds and linear constraints: an optimizer's point on an
+/// active constraint may miss it by round-off.
+const CONSTRAINT_SLACK: f64 = 1e-9;
+
+/// The bounds and linear constraints that `op` violates, each said in driller units.
+pub fn deterministic_violations(
+    k: &crate::problem::study::Constraints,
+    op: OperatingPoint,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    let outside = |x: f64, [lo, hi]: [f64; 2]| {
+        x < lo - CONSTRAINT_SLACK * lo.abs() || x > hi + CONSTRAINT_SLACK * hi.abs()
+    };
+    if outside(op.omega, k.omega) {
+        out.push(format!(
+            "Ω = {:.1} rpm is outside the bounds [{:.1}, {:.1}] rpm",
+            to_rpm(op.omega),
+            to_rpm(k.omega[0]),
+            to_rpm(k.omega[1])
+        ));
+    }
+    if outside(op.v0, k.v0) {
+        out.push(format!(
+            "V0 = {:.2} m/h is outside the bounds [{:.2}, {:.2}] m/h",
+            to_m_per_h(op.v0),
+            to_m_per_h(k.v0[0]),
+            to_m_per_h(k.v0[1])
+        ));
+    }
+    for l in &k.linear {
+        let value = l.omega * op.omega + l.v0 * op.v0;
+        let scale = (l.omega * op.omega).abs() + (l.v0 * op.v0).abs() + l.upper.abs();
+        if value > l.upper + CONSTRAINT_SLACK * scale {
+            out.push(if l.label == "max_depth_of_cut" {
+                // 2π V0 − d Ω ≤ 0: say it as the depth of cut per revolution.
+                format!(
+                    "the depth of cut 2π V0/Ω = {:.3} mm exceeds max_depth_of_cut = {:.3} mm",
+                    1e3 * 2.0 * std::f64::consts::PI * op.v0 / op.omega,
+                    -1e3 * l.omega
+                )
+            } else {
+                format!(
+                    "the linear constraint {:.6e} Ω + {:.6e} V0 ≤ {:.6e} (SI) is violated: {value:.6e}",
+                    l.omega, l.v0, l.upper
+                )
+            });
+        }
+    }
+    out
+}
+
+/// The score of a point from its samples (see [`crate::problem::study`] for the conventions).
+/// A point is feasible when it meets the bounds, the linear constraints and the chance
+/// constraints; an infeasible point keeps its score and says why in `failure`.
+pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> PointEvaluation {
+    let mut eval = PointEvaluation {
+        omega_rad_s: op.omega,
+        v0_m_s: op.v0,
+        omega_rpm: to_rpm(op.omega),
+        v0_m_per_h: to_m_per_h(op.v0),
+        objective: None,
+        quantity: None,
+        risk: Vec::new(),
+        chance: Vec::new(),
+        feasible: false,
+        failure: None,
+        mean_metrics: BTreeMap::new(),
+        samples: Vec::new(),
+    };
+    let maps: Vec<&BTreeMap<String, f64>> = samples
+        .iter()
+        .filter_map(|s| match &s.outcome {
+            SampleOutcome::Metrics(m) => Some(m),
+            SampleOutcome::Failed(_) => None,
+        })
+        .collect();
+    if maps.len() < samples.len() {
+        let (i, why) = samples
+            .iter()
+            .find_map(|s| match &s.outcome {
+                SampleOutcome::Failed(w) => Some((s.sample, w.clone())),
+                _ => None,
+            })
+            .expect("a failed sample");
+        eval.failure = Some(format!(
+            "{} of {} simulations failed (sample {i}: {why})",
+            samples.len() - maps.len(),
+            samples.len()
+        ));
+        eval.samples = samples;
+        return eval;
+    }
+    let column = |name: &str| -> Vec<f64> {
+        maps.iter()
+            .map(|m| m.get(name).copied().unwrap_or(f64::NAN))
+            .collect()
+    };
+    if let Some(first) = maps.first() {
+        for k in first.keys() {
+            eval.mean_metrics.insert(k.clone(), stats::mean(&column(k)));
+        }
+    }
+    let quantity = match study.quantity {
+        Quantity::Rop => study.statistic.apply(&column("mean_rop_m_per_h")),
+        Quantity::Efficiency => study.statistic.apply(&column("efficiency")),
+    };
+    let mut score = quantity;
+    for r in &study.risk {
+        let value = r.statistic.apply(&column(&r.metric));
+        let penalty = r.weight * value;
+        score -= penalty;
+        eval.risk.push(RiskValue {
+            metric: r.metric.clone(),
+            statistic: r.statistic,
+            value,
+            weight: r.weight,
+            penalty,
+        });
+    }
+    let mut feasible = true;
+    if let Some(k) = &study.constraints {
+        for c in &k.chance {
+            let probability = stats::prob_exceed(&column(&c.metric), c.threshold);
+            let satisfied = probability <= c.max_probability;
+            feasible &= satisfied;
+            eval.chance.push(ChanceValue {
+                metric: c.metric.clone(),
+                threshold: c.threshold,
+                probability,
+                max_probability: c.max_probability,
+                satisfied,
+            });
+        }
+    }
+    let mut reasons = Vec::new();
+    if !feasible {
+        reasons.push("a chance constraint is violated".to_string());
+    }
+    if let Some(k) = &study.constraints {
+        let violated = deterministic_violations(k, op);
+        feasible &= violated.is_empty();
+        reasons.extend(violated);
+    }
+    if !score.is_finite() {
+        eval.failure = Some(format!("the score is not finite ({score})"));
+        eval.samples = samples;
+        return eval;
+    }
+    if !reasons.is_empty() {
+        eval.failure = Some(reasons.join("; "));
+    }
+    eval.quantity = Some(quantity);
+    eval.objective = Some(score);
+    eval.feasible = feasible;
+    eval.samples = samples;
+    eval
+}
+
+#[cfg(test)]
+mod constraint_tests {
+    use super::*;
+    use crate::problem::study::{Constraints, LinearConstraint};
+    use std::f64::consts::PI;
+
+    fn tiny_constraints() -> Constraints {
+        let rpm = PI / 30.0;
+        Constraints {
+            omega: [30.0 * rpm, 150.0 * rpm],
+            v0: [2.0 / 3600.0, 20.0 / 3600.0],
+            linear: vec![LinearConstraint {
+                omega: -3e-3,
+                v0: 2.0 * PI,
+                upper: 0.0,
+                label: "max_depth_of_cut",
+            }],
+            chance: Vec::new(),
+        }
+    }
+
+    fn at(rpm: f64, m_per_h: f64) -> OperatingPoint {
+        OperatingPoint {
+            omega: rpm * PI / 30.0,
+            v0: m_per_h / 3600.0,
+        }
+    }
+
+    #[test]
+    fn bounds_and_linear_constraints_decide_feasibility() {
+        let k = tiny_constraints();
+        let v = deterministic_violations(&k, at(200.0, 30.0));
+        assert_eq!(v.len(), 2, "{v:?}");
+        assert!(
+            v[0].contains("200.0 rpm") && v[1].contains("30.00 m/h"),
+            "{v:?}"
+        );
+        // 30 rpm at 20 m/h cuts 2π V0/Ω = 11.1 mm per revolution.
+        let v = deterministic_violations(&k, at(30.0, 20.0));
+        assert_eq!(v.len(), 1);
+        assert!(v[0].contains("11.111 mm"), "{v:?}");
+        // The vertex Ω = 2π V0 / 3 mm = 111.1 rpm is feasible; 0.1 % below it is not.
+        let vertex = 2.0 * PI * (20.0 / 3600.0) / 3e-3 * 30.0 / PI;
+        assert!(deterministic_violations(&k, at(vertex, 20.0)).is_empty());
+        assert_eq!(
+            deterministic_violations(&k, at(0.999 * vertex, 20.0)).len(),
+            1
+        );
+        assert!(deterministic_violations(&k, at(60.0, 5.0)).is_empty());
+    }
+}
