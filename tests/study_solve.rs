@@ -76,10 +76,10 @@ fn trust_region_solve_finds_the_optimum_an_exhaustive_map_gives() {
         best.objective.unwrap()
     );
     assert!(
-        outcome.evaluations.len() <= problem.study.optimizer.max_evaluations + 5,
+        outcome.evaluations.len() <= problem.study.optimizer.budget() + 5,
         "{} points for a budget of {}",
         outcome.evaluations.len(),
-        problem.study.optimizer.max_evaluations
+        problem.study.optimizer.budget()
     );
 }
 

@@ -2,6 +2,10 @@
 //! [expect]): bad input is refused with the file, the dotted key and what is allowed.
 
 use drillopt::problem::Problem;
+use drillopt::problem::study::{
+    GridSettings, Method, NelderMeadSettings, OptimizerSettings, ParticleSwarmSettings,
+    TrustRegionSettings,
+};
 use std::path::Path;
 
 fn base() -> String {
@@ -150,4 +154,178 @@ fn constraints_that_leave_no_feasible_point_are_refused() {
         0,
         "nothing is simulated for an infeasible problem"
     );
+}
+
+fn optimizer_of(section: &str) -> OptimizerSettings {
+    Problem::from_toml(&(base() + section), Path::new("study.toml"))
+        .unwrap_or_else(|e| panic!("refused:\n{section}\n{e}"))
+        .study
+        .optimizer
+}
+
+/// Each method holds only the settings it reads; absent keys take the documented defaults.
+#[test]
+fn optimizer_settings_per_method_with_defaults() {
+    assert_eq!(
+        optimizer_of(""),
+        OptimizerSettings::TrustRegion(TrustRegionSettings {
+            max_evaluations: 30,
+            start: None,
+            initial_radius: 0.25,
+            min_radius: 0.02,
+            grid: [9, 9],
+        })
+    );
+    assert_eq!(
+        optimizer_of(
+            "[optimizer]\nmethod = \"nelder_mead\"\nmax_evaluations = 20\nstart = [\"60 rpm\", \"18 m/h\"]\n"
+        ),
+        OptimizerSettings::NelderMead(NelderMeadSettings {
+            max_evaluations: 20,
+            start: Some([2.0 * std::f64::consts::PI, 0.005]),
+            ..NelderMeadSettings::default()
+        })
+    );
+    assert_eq!(
+        optimizer_of("[optimizer]\nmethod = \"particle_swarm\"\nseed = 7\nmin_radius = 0.5\n"),
+        OptimizerSettings::ParticleSwarm(ParticleSwarmSettings {
+            max_evaluations: 30,
+            min_radius: 0.5,
+            seed: 7,
+            grid: [9, 9],
+        })
+    );
+    // `grid` is every method's key: it is also `drillopt map`'s default grid.
+    let tr = optimizer_of("[optimizer]\ngrid = [5, 7]\n");
+    assert_eq!(
+        (tr.method(), tr.grid(), tr.budget()),
+        (Method::TrustRegion, [5, 7], 30)
+    );
+    let grid = optimizer_of("[optimizer]\nmethod = \"grid\"\ngrid = [5, 7]\n");
+    assert_eq!(grid, OptimizerSettings::Grid(GridSettings { grid: [5, 7] }));
+    assert_eq!((grid.start(), grid.budget()), (None, 49));
+}
+
+/// A key the chosen method does not read is refused, with the key, the method and its keys.
+#[test]
+fn optimizer_keys_the_method_does_not_read_are_refused() {
+    let cases: [(&str, &[&str]); 5] = [
+        (
+            "method = \"trust_region\"\nseed = 3\n",
+            &[
+                "optimizer.seed",
+                "not used by method \"trust_region\"",
+                "min_radius",
+            ],
+        ),
+        (
+            "method = \"nelder_mead\"\nseed = 3\n",
+            &["optimizer.seed", "\"nelder_mead\""],
+        ),
+        (
+            "method = \"particle_swarm\"\nstart = [\"60 rpm\", \"5 m/h\"]\n",
+            &[
+                "optimizer.start",
+                "\"particle_swarm\"",
+                "max_evaluations, min_radius, seed, grid",
+            ],
+        ),
+        (
+            "method = \"particle_swarm\"\ninitial_radius = 0.1\n",
+            &["optimizer.initial_radius", "\"particle_swarm\""],
+        ),
+        (
+            "method = \"grid\"\nmax_evaluations = 20\n",
+            &["optimizer.max_evaluations", "\"grid\"", "(its keys: grid)"],
+        ),
+    ];
+    for (section, parts) in cases {
+        let msg = error(&format!("[optimizer]\n{section}"));
+        assert_names(&msg, &["study.toml"]);
+        assert_names(&msg, parts);
+    }
+    // The value checks are unchanged.
+    assert_names(
+        &error("[optimizer]\ninitial_radius = 0.1\nmin_radius = 0.2\n"),
+        &[
+            "optimizer.min_radius",
+            "smaller than optimizer.initial_radius (0.1), got 0.2",
+        ],
+    );
+    assert_names(
+        &error("[optimizer]\nmax_evaluations = -4\n"),
+        &["optimizer.max_evaluations", "[3, 100000], got -4"],
+    );
+    assert_names(
+        &error("[optimizer]\nmethod = \"grid\"\ngrid = [1, 9]\n"),
+        &["optimizer.grid", "each in [2, 200], got [1, 9]"],
+    );
+}
+
+/// The builders start from the defaults and check every field as the problem file does.
+#[test]
+fn optimizer_settings_builders_check_ranges() {
+    let tr = TrustRegionSettings::builder()
+        .max_evaluations(12)
+        .initial_radius(0.3)
+        .build()
+        .unwrap();
+    assert_eq!(
+        tr,
+        TrustRegionSettings {
+            max_evaluations: 12,
+            initial_radius: 0.3,
+            ..TrustRegionSettings::default()
+        }
+    );
+    let e = TrustRegionSettings::builder()
+        .min_radius(0.3)
+        .build()
+        .unwrap_err();
+    assert_eq!(e.key, "min_radius");
+    assert_eq!(
+        e.to_string(),
+        "optimizer.min_radius: must be smaller than optimizer.initial_radius (0.25), got 0.3"
+    );
+    assert_eq!(
+        NelderMeadSettings::builder()
+            .max_evaluations(2)
+            .build()
+            .unwrap_err()
+            .key,
+        "max_evaluations"
+    );
+    assert_eq!(
+        NelderMeadSettings::builder()
+            .start(Some([f64::NAN, 0.001]))
+            .build()
+            .unwrap_err()
+            .key,
+        "start"
+    );
+    assert_eq!(
+        ParticleSwarmSettings::builder()
+            .seed(4)
+            .build()
+            .unwrap()
+            .seed,
+        4
+    );
+    assert_eq!(
+        ParticleSwarmSettings::builder()
+            .min_radius(0.0)
+            .build()
+            .unwrap_err()
+            .key,
+        "min_radius"
+    );
+    assert_eq!(
+        GridSettings::builder()
+            .grid([1, 5])
+            .build()
+            .unwrap_err()
+            .key,
+        "grid"
+    );
+    assert_eq!(OptimizerSettings::default().method(), Method::TrustRegion);
 }

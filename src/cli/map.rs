@@ -69,7 +69,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let grid = match &args.grid {
         Some(g) => parse_grid(g)?,
-        None => problem.study.optimizer.grid,
+        None => problem.study.optimizer.grid(),
     };
     let out = study::out_dir(&args.out, &problem, "map");
     let clock = Instant::now();

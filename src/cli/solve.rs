@@ -229,7 +229,7 @@ pub fn solve_and_report(
     let cache = study::open_cache(out, resume)?;
     let settings = &problem.study.optimizer;
     let per_point = problem.study.samples.max(1) as u64;
-    let bar = study::progress_bar(quiet, settings.max_evaluations as u64 * per_point, "solve");
+    let bar = study::progress_bar(quiet, settings.budget() as u64 * per_point, "solve");
     let ev = study::evaluator(problem, Some(&cache), &bar)?;
     let bar2 = bar.clone();
     let outcome = solve::solve(

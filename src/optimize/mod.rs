@@ -14,7 +14,7 @@
 //! Methods: [`minimize_trust_region`] (the main one: model-based trust region, an argmin
 //! `Solver`, sub-problems solved by Clarabel), [`minimize_nelder_mead`] (argmin's Nelder–Mead
 //! on a projected penalty, with a simplex-size test and restarts), [`minimize_particle_swarm`]
-//! (seeded swarm over the box) and [`grid_search`] (exhaustive).
+//! (argmin's seeded particle swarm on the same penalty) and [`grid_search`] (exhaustive).
 
 mod error;
 mod evaluation;
@@ -23,8 +23,8 @@ mod grid;
 mod model;
 mod nelder_mead;
 mod observer;
+mod particle_swarm;
 mod penalized;
-mod pso;
 pub mod qp;
 mod result;
 mod trust_region;
@@ -35,8 +35,8 @@ pub use feasible::{FEASIBILITY_TOL, FeasibleSet};
 pub use grid::grid_search;
 pub use nelder_mead::{NelderMeadOptions, minimize_nelder_mead};
 pub use observer::{Iterate, IterateCallback, PathLog, PathObserver};
+pub use particle_swarm::{SwarmOptions, minimize_particle_swarm};
 pub use penalized::FAILURE_COST;
-pub use pso::{SwarmOptions, minimize_particle_swarm};
 pub use result::{OptimizeResult, Stop};
 pub use trust_region::{
     BlackBoxProblem, TrustRegion, TrustRegionOptions, TrustRegionState, minimize_trust_region,

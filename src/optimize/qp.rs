@@ -78,26 +78,8 @@ fn to_rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Dense rows (each `ncols` long) to a Clarabel CSC matrix, dropping exact zeros.
-pub(crate) fn dense_to_csc(rows: &[Vec<f64>], ncols: usize) -> CscMatrix<f64> {
-    let mut colptr = Vec::with_capacity(ncols + 1);
-    let mut rowval = Vec::new();
-    let mut nzval = Vec::new();
-    colptr.push(0);
-    for j in 0..ncols {
-        for (i, row) in rows.iter().enumerate() {
-            if row[j] != 0.0 {
-                rowval.push(i);
-                nzval.push(row[j]);
-            }
-        }
-        colptr.push(nzval.len());
-    }
-    CscMatrix::new(rows.len(), ncols, colptr, rowval, nzval)
-}
-
 /// Solves a convex QP/LP in Clarabel's form `min ½xᵀPx + qᵀx, G x ≤ h` with `P` given as full
-/// dense rows (only its upper triangle is passed). Returns `(x, z)`.
+/// dense rows (only its upper triangle is passed; empty for an LP). Returns `(x, z, reduced_accuracy)`.
 pub(crate) fn solve_dense(
     p: &[Vec<f64>],
     q: &[f64],
@@ -105,21 +87,18 @@ pub(crate) fn solve_dense(
     h: &[f64],
 ) -> Result<(Vec<f64>, Vec<f64>, bool), OptimizeError> {
     let n = q.len();
-    let p_upper: Vec<Vec<f64>> = (0..n)
-        .map(|i| {
-            (0..n)
-                .map(|j| {
-                    if j >= i && !p.is_empty() {
-                        p[i][j]
-                    } else {
-                        0.0
-                    }
-                })
-                .collect()
-        })
-        .collect();
-    let p_csc = dense_to_csc(&p_upper, n);
-    let a_csc = dense_to_csc(g, n);
+    // Clarabel's conversion from dense rows drops exact zeros; it takes the column count from
+    // the first row, so an empty P or G is built with its size.
+    let p_csc = if p.is_empty() {
+        CscMatrix::zeros((n, n))
+    } else {
+        CscMatrix::from(p).to_triu()
+    };
+    let a_csc = if g.is_empty() {
+        CscMatrix::zeros((0, n))
+    } else {
+        CscMatrix::from(g)
+    };
     let cones: Vec<SupportedConeT<f64>> = if g.is_empty() {
         Vec::new()
     } else {
@@ -327,6 +306,23 @@ mod tests {
         let (c, clipped) = convexify(&[vec![2.0, 1.0], vec![1.0, 2.0]]);
         assert!(!clipped);
         assert!(close(&c[0], &[2.0, 1.0], 1e-12));
+    }
+
+    /// No rows at all (G is 0×n) and a diagonal P: min ½(x² + 2y²) − x − y at (1, ½).
+    #[test]
+    fn unconstrained_qp_without_rows() {
+        let h = vec![vec![1.0, 0.0], vec![0.0, 2.0]];
+        let s = solve_qp(&QpProblem {
+            h: &h,
+            g: &[-1.0, -1.0],
+            a: &[],
+            b: &[],
+            lower: &[-INF, -INF],
+            upper: &[INF, INF],
+        })
+        .unwrap();
+        assert!(close(&s.x, &[1.0, 0.5], 1e-7), "{:?}", s.x);
+        assert!(s.multipliers.is_empty());
     }
 
     #[test]

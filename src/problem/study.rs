@@ -162,40 +162,13 @@ pub struct Constraints {
     pub chance: Vec<ChanceConstraint>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
-    TrustRegion,
-    NelderMead,
-    ParticleSwarm,
-    Grid,
-}
-
-impl Method {
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::TrustRegion => "trust_region",
-            Method::NelderMead => "nelder_mead",
-            Method::ParticleSwarm => "particle_swarm",
-            Method::Grid => "grid",
-        }
-    }
-}
-
-#[derive(Debug, Clone, PartialEq)]
-pub struct OptimizerSettings {
-    pub method: Method,
-    /// Budget of design points (each one is `samples` simulations).
-    pub max_evaluations: usize,
-    /// Points per axis for `grid` (and `drillopt map` by default).
-    pub grid: [usize; 2],
-    /// Starting point (Ω rad/s, V0 m/s); the operating point unless set.
-    pub start: Option<[f64; 2]>,
-    /// Trust-region radii as fractions of the bounds box.
-    pub initial_radius: f64,
-    pub min_radius: f64,
-    /// Seed of the optimizer's own randomness (particle swarm).
-    pub seed: u64,
-}
+// The [optimizer] section: one settings struct (and builder) per method.
+mod optimizer;
+pub use optimizer::{
+    GRID_POINTS, GridSettings, GridSettingsBuilder, MAX_EVALUATIONS, Method, NelderMeadSettings,
+    NelderMeadSettingsBuilder, OptimizerSettings, ParticleSwarmSettings,
+    ParticleSwarmSettingsBuilder, SettingsError, TrustRegionSettings, TrustRegionSettingsBuilder,
+};
 
 /// The optimum a regression problem is known to have.
 #[derive(Debug, Clone, PartialEq)]

@@ -387,22 +387,55 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
     })
 }
 
+/// A key the method does not read is refused, naming the key and the method. The section is
+/// destructured exhaustively so that a new key cannot be forgotten here.
+fn refuse_unused_keys(
+    c: &Checker,
+    o: &OptimizerSection,
+    method: Method,
+) -> Result<(), ProblemError> {
+    let OptimizerSection {
+        method: _,
+        max_evaluations,
+        grid,
+        start,
+        initial_radius,
+        min_radius,
+        seed,
+    } = o;
+    let given = [
+        ("max_evaluations", max_evaluations.is_some()),
+        ("grid", grid.is_some()),
+        ("start", start.is_some()),
+        ("initial_radius", initial_radius.is_some()),
+        ("min_radius", min_radius.is_some()),
+        ("seed", seed.is_some()),
+    ];
+    match given
+        .iter()
+        .find(|(key, set)| *set && !method.keys().contains(key))
+    {
+        None => Ok(()),
+        Some((key, _)) => Err(c.fail(
+            &format!("optimizer.{key}"),
+            format!(
+                "is not used by method \"{}\" (its keys: {})",
+                method.name(),
+                method.keys().join(", ")
+            ),
+        )),
+    }
+}
+
 fn optimizer(
     c: &Checker,
     o: Option<&OptimizerSection>,
     constraints: Option<&Constraints>,
 ) -> Result<OptimizerSettings, ProblemError> {
     use super::Dimension::*;
-    let default = OptimizerSettings {
-        method: Method::TrustRegion,
-        max_evaluations: 30,
-        grid: [9, 9],
-        start: None,
-        initial_radius: 0.25,
-        min_radius: 0.02,
-        seed: 0,
+    let Some(o) = o else {
+        return Ok(OptimizerSettings::default());
     };
-    let Some(o) = o else { return Ok(default) };
     let method = match o.method.as_deref().unwrap_or("trust_region") {
         "trust_region" => Method::TrustRegion,
         "nelder_mead" => Method::NelderMead,
@@ -417,9 +450,12 @@ fn optimizer(
             ));
         }
     };
+    refuse_unused_keys(c, o, method)?;
     let max_evaluations = match o.max_evaluations {
-        None => default.max_evaluations,
-        Some(n) if (3..=100_000).contains(&n) => n as usize,
+        None => None,
+        Some(n) if usize::try_from(n).is_ok_and(|n| MAX_EVALUATIONS.contains(&n)) => {
+            Some(n as usize)
+        }
         Some(n) => {
             return Err(c.fail(
                 "optimizer.max_evaluations",
@@ -427,11 +463,10 @@ fn optimizer(
             ));
         }
     };
+    let in_grid = |n: &i64| usize::try_from(*n).is_ok_and(|n| GRID_POINTS.contains(&n));
     let grid = match &o.grid {
-        None => default.grid,
-        Some(g) if g.len() == 2 && g.iter().all(|n| (2..=200).contains(n)) => {
-            [g[0] as usize, g[1] as usize]
-        }
+        None => None,
+        Some(g) if g.len() == 2 && g.iter().all(in_grid) => Some([g[0] as usize, g[1] as usize]),
         Some(g) => {
             return Err(c.fail(
                 "optimizer.grid",
@@ -463,39 +498,59 @@ fn optimizer(
             ));
         }
     };
-    let fraction = |key: &str, v: Option<f64>, d: f64| -> Result<f64, ProblemError> {
+    let fraction = |key: &str, v: Option<f64>| -> Result<Option<f64>, ProblemError> {
         match v {
-            None => Ok(d),
-            Some(x) if x > 0.0 && x <= 1.0 => Ok(x),
+            None => Ok(None),
+            Some(x) if x > 0.0 && x <= 1.0 => Ok(Some(x)),
             Some(x) => Err(c.fail(
                 key,
                 format!("must be a fraction of the bounds box in (0, 1], got {x}"),
             )),
         }
     };
-    let initial_radius = fraction(
-        "optimizer.initial_radius",
-        o.initial_radius,
-        default.initial_radius,
-    )?;
-    let min_radius = fraction("optimizer.min_radius", o.min_radius, default.min_radius)?;
-    if min_radius >= initial_radius {
-        return Err(c.fail(
-            "optimizer.min_radius",
-            format!(
-                "must be smaller than optimizer.initial_radius ({initial_radius}), got {min_radius}"
-            ),
-        ));
-    }
-    Ok(OptimizerSettings {
-        method,
-        max_evaluations,
-        grid,
-        start,
-        initial_radius,
-        min_radius,
-        seed: seed(c, "optimizer.seed", o.seed, 0)?,
-    })
+    let initial_radius = fraction("optimizer.initial_radius", o.initial_radius)?;
+    let min_radius = fraction("optimizer.min_radius", o.min_radius)?;
+    let seed = seed(c, "optimizer.seed", o.seed, 0)?;
+    // Defaults, min_radius < initial_radius and the ranges again: the method's builder.
+    let settings = match method {
+        Method::TrustRegion => {
+            let d = TrustRegionSettings::default();
+            TrustRegionSettings::builder()
+                .max_evaluations(max_evaluations.unwrap_or(d.max_evaluations))
+                .start(start)
+                .initial_radius(initial_radius.unwrap_or(d.initial_radius))
+                .min_radius(min_radius.unwrap_or(d.min_radius))
+                .grid(grid.unwrap_or(d.grid))
+                .build()
+                .map(OptimizerSettings::TrustRegion)
+        }
+        Method::NelderMead => {
+            let d = NelderMeadSettings::default();
+            NelderMeadSettings::builder()
+                .max_evaluations(max_evaluations.unwrap_or(d.max_evaluations))
+                .start(start)
+                .initial_radius(initial_radius.unwrap_or(d.initial_radius))
+                .min_radius(min_radius.unwrap_or(d.min_radius))
+                .grid(grid.unwrap_or(d.grid))
+                .build()
+                .map(OptimizerSettings::NelderMead)
+        }
+        Method::ParticleSwarm => {
+            let d = ParticleSwarmSettings::default();
+            ParticleSwarmSettings::builder()
+                .max_evaluations(max_evaluations.unwrap_or(d.max_evaluations))
+                .min_radius(min_radius.unwrap_or(d.min_radius))
+                .seed(seed)
+                .grid(grid.unwrap_or(d.grid))
+                .build()
+                .map(OptimizerSettings::ParticleSwarm)
+        }
+        Method::Grid => GridSettings::builder()
+            .grid(grid.unwrap_or(GridSettings::default().grid))
+            .build()
+            .map(OptimizerSettings::Grid),
+    };
+    settings.map_err(|e| c.fail(&format!("optimizer.{}", e.key), e.message))
 }
 
 fn expect(c: &Checker, e: &ExpectSection) -> Result<Expect, ProblemError> {

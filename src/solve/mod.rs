@@ -14,7 +14,7 @@ use crate::optimize::{
     minimize_trust_region,
 };
 use crate::problem::Problem;
-use crate::problem::study::{Constraints, Method};
+use crate::problem::study::{Constraints, Method, OptimizerSettings};
 use crate::study::{PointEvaluation, RobustEvaluator};
 use serde::Serialize;
 use std::sync::Mutex;
@@ -205,41 +205,41 @@ pub fn solve(
     let settings = &problem.study.optimizer;
     let bb = StudyBlackBox::new(evaluator, constraints);
     let start = settings
-        .start
+        .start()
         .map_or(problem.operating_point, |s| OperatingPoint {
             omega: s[0],
             v0: s[1],
         });
     let x0 = set.project(&bb.scaling.to_unit(start))?;
-    let result = match settings.method {
-        Method::TrustRegion => {
+    let result = match settings {
+        OptimizerSettings::TrustRegion(s) => {
             let opts = TrustRegionOptions {
-                initial_radius: settings.initial_radius,
-                min_radius: settings.min_radius,
-                max_radius: 0.5_f64.max(settings.initial_radius),
-                max_evaluations: settings.max_evaluations,
+                initial_radius: s.initial_radius,
+                min_radius: s.min_radius,
+                max_radius: 0.5_f64.max(s.initial_radius),
+                max_evaluations: s.max_evaluations,
                 ..TrustRegionOptions::default()
             };
             Some(minimize_trust_region(&bb, &set, &x0, &opts, on_iterate)?)
         }
-        Method::Grid => {
-            let n = settings.grid[0].max(settings.grid[1]);
+        OptimizerSettings::Grid(s) => {
+            let n = s.grid[0].max(s.grid[1]);
             Some(grid_search(&bb, &set, n, 0.0)?)
         }
-        Method::NelderMead => {
+        OptimizerSettings::NelderMead(s) => {
             let opts = NelderMeadOptions {
-                initial_step: settings.initial_radius,
-                xtol: settings.min_radius,
-                max_evaluations: settings.max_evaluations,
+                initial_step: s.initial_radius,
+                xtol: s.min_radius,
+                max_evaluations: s.max_evaluations,
                 ..NelderMeadOptions::default()
             };
             Some(minimize_nelder_mead(&bb, &set, &x0, &opts, on_iterate)?)
         }
-        Method::ParticleSwarm => {
+        OptimizerSettings::ParticleSwarm(s) => {
             let opts = SwarmOptions {
-                max_evaluations: settings.max_evaluations,
-                seed: settings.seed,
-                xtol: settings.min_radius,
+                max_evaluations: s.max_evaluations,
+                seed: s.seed,
+                xtol: s.min_radius,
                 ..SwarmOptions::default()
             };
             Some(minimize_particle_swarm(&bb, &set, &opts, on_iterate)?)
@@ -271,7 +271,7 @@ pub fn solve(
     };
     let best = best_point(&evaluations);
     Ok(SolveOutcome {
-        method: settings.method,
+        method: settings.method(),
         status: SolveStatus::of(stop, best.as_ref()),
         best,
         evaluations,

@@ -45,7 +45,14 @@
 //! Stops when `Δ < min_radius` (converged), the evaluation budget is spent, or the iteration cap
 //! is reached. Duplicate points are not re-evaluated. The initial `2n+1` design
 //! (`x0, x0 ± Δ0 e_i`, projected onto `X`) is evaluated with one [`BlackBox::evaluate_batch`].
+//!
+//! Files: this one holds the options, the solver's state and its argmin `Solver` impl;
+//! `iteration.rs` one model-based iteration (steps 1–6) as named steps; `geometry.rs` the sample
+//! sets, poisedness, geometry points and failure cuts; `subproblem.rs` the Sℓ1QP;
+//! `problem.rs` the argmin problem around the black box.
 
+mod geometry;
+mod iteration;
 mod problem;
 mod subproblem;
 
@@ -58,12 +65,10 @@ use argmin::core::{
 };
 
 use super::evaluation::{BlackBox, Evaluation};
-use super::feasible::{FEASIBILITY_TOL, FeasibleSet};
-use super::model::{fit_quadratics, poisedness};
+use super::feasible::FeasibleSet;
 use super::observer::{IterateCallback, PathLog, PathObserver, take_path};
 use super::{OptimizeError, OptimizeResult, error::from_argmin};
 pub use problem::BlackBoxProblem;
-use subproblem::Subproblem;
 
 /// argmin state used by the trust-region solver: parameter = centre, cost = merit at the centre.
 pub type TrustRegionState = IterState<Vec<f64>, (), (), (), (), f64>;
@@ -253,62 +258,6 @@ impl TrustRegion {
         self.history[i].1.merit(self.penalty)
     }
 
-    /// `y` clipped to the box, projected onto the set if still outside (`None` if that fails).
-    fn feasible(&self, y: &[f64]) -> Option<Vec<f64>> {
-        let y = self.set.clip_to_box(y);
-        if self.set.contains(&y, FEASIBILITY_TOL) {
-            return Some(y);
-        }
-        self.set.project(&y).ok()
-    }
-
-    /// Voronoi-type cuts from the failed points within `4Δ` of `xc` (∞-norm): unit normals `u`
-    /// and offsets `h` of `uᵀd ≤ h`, `u = (f − x_c)/‖f − x_c‖`, `h = CUT_FRACTION·‖f − x_c‖`.
-    fn failure_cuts(&self, xc: &[f64]) -> Vec<(Vec<f64>, f64)> {
-        self.history
-            .iter()
-            .filter(|(x, e)| e.failed && dist_inf(x, xc) <= 4.0 * self.radius)
-            .filter_map(|(x, _)| {
-                let v: Vec<f64> = x.iter().zip(xc).map(|(a, b)| a - b).collect();
-                let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
-                (norm > 0.0).then(|| (v.iter().map(|a| a / norm).collect(), CUT_FRACTION * norm))
-            })
-            .collect()
-    }
-
-    /// `y` violates a failure cut about the centre `xc` (beyond a 1e-9 + 1e-6·Δ tolerance).
-    fn beyond_cut(&self, y: &[f64], xc: &[f64]) -> bool {
-        let tol = 1e-9 + 1e-6 * self.radius;
-        self.failure_cuts(xc).iter().any(|(u, h)| {
-            u.iter()
-                .zip(y.iter().zip(xc))
-                .map(|(ui, (a, b))| ui * (a - b))
-                .sum::<f64>()
-                > h + tol
-        })
-    }
-
-    fn duplicate(&self, y: &[f64]) -> Option<usize> {
-        let tol = 1e-12 * (1.0 + norm_inf(y));
-        self.history.iter().position(|(x, _)| dist_inf(x, y) <= tol)
-    }
-
-    fn design(&self, x0: &[f64], radius: f64) -> Vec<Vec<f64>> {
-        let mut pts = vec![x0.to_vec()];
-        for i in 0..self.n() {
-            for sign in [1.0, -1.0] {
-                let mut y = x0.to_vec();
-                y[i] += sign * radius;
-                if let Some(y) = self.feasible(&y)
-                    && pts.iter().all(|p| dist_inf(p, &y) > 0.1 * radius)
-                {
-                    pts.push(y);
-                }
-            }
-        }
-        pts
-    }
-
     /// Evaluates a batch (truncated to the budget) and records it.
     fn evaluate_many<O>(&mut self, problem: &mut Problem<O>, xs: Vec<Vec<f64>>) -> Result<(), Error>
     where
@@ -356,222 +305,6 @@ impl TrustRegion {
         (0..self.history.len())
             .filter(|&i| !self.history[i].1.failed)
             .min_by(|&a, &b| self.merit(a).total_cmp(&self.merit(b)))
-    }
-
-    /// Successful points within `factor·Δ` (∞-norm) of the centre, the centre first, nearest
-    /// first, at most `(n+1)(n+2)`.
-    fn sample_set(&self, c: usize, factor: f64) -> Vec<usize> {
-        let xc = &self.history[c].0;
-        let lim = factor * self.radius * (1.0 + 1e-9);
-        let mut near: Vec<(f64, usize)> = self
-            .history
-            .iter()
-            .enumerate()
-            .filter(|&(i, (_, e))| i != c && !e.failed)
-            .map(|(i, (x, _))| (dist_inf(x, xc), i))
-            .filter(|&(d, _)| d <= lim && d > 1e-10 * self.radius)
-            .collect();
-        near.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let n = self.n();
-        let cap = (n + 1) * (n + 2);
-        let mut out = vec![c];
-        out.extend(near.into_iter().map(|(_, i)| i).take(cap - 1));
-        out
-    }
-
-    fn displacements(&self, c: usize, set: &[usize]) -> Vec<Vec<f64>> {
-        let xc = &self.history[c].0;
-        set.iter()
-            .filter(|&&i| i != c)
-            .map(|&i| {
-                self.history[i]
-                    .0
-                    .iter()
-                    .zip(xc)
-                    .map(|(y, x)| (y - x) / self.radius)
-                    .collect()
-            })
-            .collect()
-    }
-
-    /// Picks the candidate point that most improves poisedness; `None` if none improves it.
-    /// With `k < n` displacements a candidate is scored by the `(k+1)`-th singular value (how
-    /// well it adds a new direction), otherwise by `σ_min`.
-    fn geometry_point(&self, c: usize, sample: &[usize]) -> Option<Vec<f64>> {
-        let n = self.n();
-        let xc = self.history[c].0.clone();
-        let disp = self.displacements(c, sample);
-        let current = poisedness(&disp, n);
-        let k = (disp.len() + 1).min(n);
-        let floor = if disp.len() < n {
-            1e-3
-        } else {
-            current.sigma_min() + 1e-6
-        };
-        let mut dirs: Vec<Vec<f64>> = Vec::new();
-        for v in current.directions.iter().cloned().chain((0..n).map(|i| {
-            let mut e = vec![0.0; n];
-            e[i] = 1.0;
-            e
-        })) {
-            dirs.push(v.iter().map(|x| -x).collect());
-            dirs.push(v);
-        }
-        let mut best: Option<(f64, Vec<f64>)> = None;
-        for u in dirs {
-            let scale = norm_inf(&u);
-            if scale < 1e-12 {
-                continue;
-            }
-            let y: Vec<f64> = xc
-                .iter()
-                .zip(&u)
-                .map(|(x, ui)| x + self.radius * ui / scale)
-                .collect();
-            let Some(y) = self.feasible(&y) else { continue };
-            if dist_inf(&y, &xc) < 0.1 * self.radius
-                || self.beyond_cut(&y, &xc)
-                || self
-                    .history
-                    .iter()
-                    .any(|(x, _)| dist_inf(x, &y) < 0.05 * self.radius)
-            {
-                continue;
-            }
-            let mut with = disp.clone();
-            with.push(
-                y.iter()
-                    .zip(&xc)
-                    .map(|(a, b)| (a - b) / self.radius)
-                    .collect(),
-            );
-            let s = poisedness(&with, n).kth(k);
-            if best.as_ref().is_none_or(|(bs, _)| s > *bs) {
-                best = Some((s, y));
-            }
-        }
-        best.filter(|(s, _)| *s > floor).map(|(_, y)| y)
-    }
-
-    /// One model-based iteration about centre `c`.
-    fn model_iteration<O>(&mut self, problem: &mut Problem<O>, c: usize) -> Result<f64, Error>
-    where
-        O: CostFunction<Param = Vec<f64>, Output = Evaluation>,
-    {
-        let n = self.n();
-        let local = self.sample_set(c, POISED_RADIUS);
-        let disp = self.displacements(c, &local);
-        let sigma = poisedness(&disp, n).sigma_min();
-        if local.len() < n + 1 || sigma < self.opts.poisedness_threshold {
-            match self.geometry_point(c, &local) {
-                Some(y) => {
-                    self.last_step = "geometry";
-                    if let Some(i) = self.evaluate_one(problem, y)?
-                        && !self.history[i].1.failed
-                        && self.merit(i) < self.merit(c)
-                    {
-                        self.centre = Some(i);
-                    }
-                }
-                None => {
-                    self.last_step = "shrink (geometry blocked)";
-                    self.radius *= 0.5;
-                }
-            }
-            return Ok(f64::NAN);
-        }
-        let sample = self.sample_set(c, SAMPLE_RADIUS);
-        let xc = self.history[c].0.clone();
-        let points: Vec<&[f64]> = sample
-            .iter()
-            .map(|&i| self.history[i].0.as_slice())
-            .collect();
-        let mut columns = vec![
-            sample
-                .iter()
-                .map(|&i| self.history[i].1.objective)
-                .collect(),
-        ];
-        for j in 0..self.m {
-            columns.push(
-                sample
-                    .iter()
-                    .map(|&i| self.history[i].1.constraints[j])
-                    .collect(),
-            );
-        }
-        let models = fit_quadratics(&xc, self.radius, &points, &columns);
-        let cuts = self.failure_cuts(&xc);
-        let solved = Subproblem {
-            set: &self.set,
-            xc: &xc,
-            centre: &self.history[c].1,
-            models: &models,
-            multipliers: &self.multipliers,
-            cuts: &cuts,
-            radius: self.radius,
-        }
-        .solve(self.penalty, self.opts.max_penalty);
-        let step = match solved {
-            Ok(s) => {
-                self.penalty = s.penalty;
-                self.multipliers.clone_from(&s.multipliers);
-                s
-            }
-            Err(_) => {
-                self.last_step = "shrink (sub-problem failed)";
-                self.radius *= 0.5;
-                return Ok(f64::NAN);
-            }
-        };
-        let phi_c = self.merit(c);
-        let dnorm = norm_inf(&step.d);
-        let short = dnorm < 0.1 * self.radius;
-        if step.predicted <= 1e-12 * phi_c.abs().max(1.0) || dnorm < 0.5 * self.opts.min_radius {
-            self.last_step = "shrink (model stationary)";
-            self.radius *= 0.5;
-            return Ok(f64::NAN);
-        }
-        let trial: Vec<f64> = xc.iter().zip(&step.d).map(|(x, d)| x + d).collect();
-        let Some(trial) = self.feasible(&trial) else {
-            self.radius *= 0.5;
-            return Ok(f64::NAN);
-        };
-        if self.beyond_cut(&trial, &xc) {
-            // Only after a projection moved the step across a cut.
-            self.last_step = "shrink (step towards a failed point)";
-            self.radius = 0.5 * self.radius.min(dnorm);
-            return Ok(f64::NAN);
-        }
-        self.last_step = if short {
-            "trust region (short step)"
-        } else {
-            "trust region"
-        };
-        let Some(t) = self.evaluate_one(problem, trial)? else {
-            return Ok(f64::NAN);
-        };
-        if self.history[t].1.failed {
-            self.last_step = "trust region (failed evaluation)";
-            self.radius = 0.5 * self.radius.min(dnorm);
-            return Ok(f64::NAN);
-        }
-        let phi_t = self.merit(t);
-        let rho = (phi_c - phi_t) / step.predicted;
-        if rho >= 0.1 || phi_t < phi_c {
-            self.centre = Some(t);
-        }
-        self.radius = if short {
-            // The model is nearly stationary at this scale: continue at the step's scale.
-            (0.25 * self.radius).max(2.0 * dnorm)
-        } else if rho < 0.1 {
-            0.5 * self.radius
-        } else if rho < 0.7 {
-            (0.5 * self.radius).max(dnorm)
-        } else {
-            self.radius.max(2.0 * dnorm).min(self.opts.max_radius)
-        };
-        Ok(rho)
     }
 
     /// Re-samples a smaller design about `x0` while every evaluation has failed.

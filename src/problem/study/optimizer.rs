@@ -1,0 +1,355 @@
+//! The validated `[optimizer]` section: [`OptimizerSettings`], one variant per method holding
+//! only the settings that method reads, each with `Default` (the problem file's defaults) and a
+//! builder that checks every field against its range (as Clarabel's `DefaultSettingsBuilder`).
+//! Lengths are fractions of the bounds box: the optimizers work on its unit box. The file layer
+//! (`validate_study.rs`) reads the keys, refuses a key the method does not read
+//! ([`Method::keys`]), and builds the variant.
+
+/// Optimisation method, the `method` key of `[optimizer]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    TrustRegion,
+    NelderMead,
+    ParticleSwarm,
+    Grid,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::TrustRegion => "trust_region",
+            Method::NelderMead => "nelder_mead",
+            Method::ParticleSwarm => "particle_swarm",
+            Method::Grid => "grid",
+        }
+    }
+
+    /// The `[optimizer]` keys the method reads besides `method`; any other key is refused.
+    /// `grid` is accepted by every method: it is also `drillopt map`'s default grid.
+    pub fn keys(self) -> &'static [&'static str] {
+        match self {
+            Method::TrustRegion | Method::NelderMead => &[
+                "max_evaluations",
+                "start",
+                "initial_radius",
+                "min_radius",
+                "grid",
+            ],
+            Method::ParticleSwarm => &["max_evaluations", "min_radius", "seed", "grid"],
+            Method::Grid => &["grid"],
+        }
+    }
+}
+
+/// Legal range of `max_evaluations` (design points).
+pub const MAX_EVALUATIONS: std::ops::RangeInclusive<usize> = 3..=100_000;
+/// Legal range of the points per axis of `grid`.
+pub const GRID_POINTS: std::ops::RangeInclusive<usize> = 2..=200;
+
+/// An optimizer setting outside its range: the `[optimizer]` key and what is allowed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("optimizer.{key}: {message}")]
+pub struct SettingsError {
+    pub key: &'static str,
+    pub message: String,
+}
+
+fn check_budget(n: usize) -> Result<(), SettingsError> {
+    if MAX_EVALUATIONS.contains(&n) {
+        return Ok(());
+    }
+    Err(SettingsError {
+        key: "max_evaluations",
+        message: format!("must be an integer in [3, 100000], got {n}"),
+    })
+}
+
+fn check_grid(g: [usize; 2]) -> Result<(), SettingsError> {
+    if g.iter().all(|n| GRID_POINTS.contains(n)) {
+        return Ok(());
+    }
+    Err(SettingsError {
+        key: "grid",
+        message: format!("must be [n_omega, n_v0] with each in [2, 200], got {g:?}"),
+    })
+}
+
+fn check_start(s: Option<[f64; 2]>) -> Result<(), SettingsError> {
+    match s {
+        Some(s) if !s.iter().all(|v| v.is_finite() && *v > 0.0) => Err(SettingsError {
+            key: "start",
+            message: format!("must be a positive finite (omega rad/s, v0 m/s), got {s:?}"),
+        }),
+        _ => Ok(()),
+    }
+}
+
+fn check_fraction(key: &'static str, x: f64) -> Result<(), SettingsError> {
+    if x > 0.0 && x <= 1.0 {
+        return Ok(());
+    }
+    Err(SettingsError {
+        key,
+        message: format!("must be a fraction of the bounds box in (0, 1], got {x}"),
+    })
+}
+
+/// `min_radius < initial_radius`, both fractions of the bounds box.
+fn check_radii(initial_radius: f64, min_radius: f64) -> Result<(), SettingsError> {
+    check_fraction("initial_radius", initial_radius)?;
+    check_fraction("min_radius", min_radius)?;
+    if min_radius < initial_radius {
+        return Ok(());
+    }
+    Err(SettingsError {
+        key: "min_radius",
+        message: format!(
+            "must be smaller than optimizer.initial_radius ({initial_radius}), got {min_radius}"
+        ),
+    })
+}
+
+/// `method = "trust_region"` (`optimize::minimize_trust_region`). Radii are fractions of the
+/// bounds box (the optimizer works on its unit box).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrustRegionSettings {
+    /// Budget of design points (each one is `samples` simulations). Default 30; [3, 100000].
+    pub max_evaluations: usize,
+    /// Starting point (Ω rad/s, V0 m/s); the operating point unless set.
+    pub start: Option<[f64; 2]>,
+    /// Initial radius and step of the initial design. Default 0.25; (0, 1].
+    pub initial_radius: f64,
+    /// Converged when the radius falls below this. Default 0.02; (0, initial_radius).
+    pub min_radius: f64,
+    /// `drillopt map`'s default grid (n_Ω, n_V0). Default [9, 9]; each in [2, 200].
+    pub grid: [usize; 2],
+}
+
+impl Default for TrustRegionSettings {
+    fn default() -> Self {
+        TrustRegionSettings {
+            max_evaluations: 30,
+            start: None,
+            initial_radius: 0.25,
+            min_radius: 0.02,
+            grid: [9, 9],
+        }
+    }
+}
+
+impl TrustRegionSettings {
+    fn validate(&self) -> Result<(), SettingsError> {
+        check_budget(self.max_evaluations)?;
+        check_grid(self.grid)?;
+        check_start(self.start)?;
+        check_radii(self.initial_radius, self.min_radius)
+    }
+}
+
+/// `method = "nelder_mead"` (`optimize::minimize_nelder_mead`). Lengths are fractions of the
+/// bounds box.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NelderMeadSettings {
+    /// Budget of design points over all restarts. Default 30; [3, 100000].
+    pub max_evaluations: usize,
+    /// Starting point (Ω rad/s, V0 m/s); the operating point unless set.
+    pub start: Option<[f64; 2]>,
+    /// Edge of the initial (and every restart) simplex. Default 0.25; (0, 1].
+    pub initial_radius: f64,
+    /// A run stops when the simplex diameter falls below this. Default 0.02; (0, initial_radius).
+    pub min_radius: f64,
+    /// `drillopt map`'s default grid (n_Ω, n_V0). Default [9, 9]; each in [2, 200].
+    pub grid: [usize; 2],
+}
+
+impl Default for NelderMeadSettings {
+    fn default() -> Self {
+        NelderMeadSettings {
+            max_evaluations: 30,
+            start: None,
+            initial_radius: 0.25,
+            min_radius: 0.02,
+            grid: [9, 9],
+        }
+    }
+}
+
+impl NelderMeadSettings {
+    fn validate(&self) -> Result<(), SettingsError> {
+        check_budget(self.max_evaluations)?;
+        check_grid(self.grid)?;
+        check_start(self.start)?;
+        check_radii(self.initial_radius, self.min_radius)
+    }
+}
+
+/// `method = "particle_swarm"` (`optimize::minimize_particle_swarm`): particles start uniformly
+/// over the bounds box, so there is no start point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParticleSwarmSettings {
+    /// Budget of design points. Default 30; [3, 100000].
+    pub max_evaluations: usize,
+    /// Converged when every particle is within this fraction of the bounds box of the best.
+    /// Default 0.02; (0, 1].
+    pub min_radius: f64,
+    /// Seed of the swarm's random generator. Default 0.
+    pub seed: u64,
+    /// `drillopt map`'s default grid (n_Ω, n_V0). Default [9, 9]; each in [2, 200].
+    pub grid: [usize; 2],
+}
+
+impl Default for ParticleSwarmSettings {
+    fn default() -> Self {
+        ParticleSwarmSettings {
+            max_evaluations: 30,
+            min_radius: 0.02,
+            seed: 0,
+            grid: [9, 9],
+        }
+    }
+}
+
+impl ParticleSwarmSettings {
+    fn validate(&self) -> Result<(), SettingsError> {
+        check_budget(self.max_evaluations)?;
+        check_grid(self.grid)?;
+        check_fraction("min_radius", self.min_radius)
+    }
+}
+
+/// `method = "grid"` (`optimize::grid_search`): every node of the grid inside the linear
+/// constraints, all evaluated; no budget, no start.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridSettings {
+    /// Points per axis (n_Ω, n_V0); the search uses max(n_Ω, n_V0) on both axes, and
+    /// `drillopt map` uses the grid as given. Default [9, 9]; each in [2, 200].
+    pub grid: [usize; 2],
+}
+
+impl Default for GridSettings {
+    fn default() -> Self {
+        GridSettings { grid: [9, 9] }
+    }
+}
+
+impl GridSettings {
+    fn validate(&self) -> Result<(), SettingsError> {
+        check_grid(self.grid)
+    }
+}
+
+/// A builder per settings struct, as Clarabel's `DefaultSettingsBuilder`: it starts from the
+/// defaults, each setter sets one field, and `build` checks every field against its range.
+macro_rules! settings_builder {
+    ($settings:ident, $builder:ident { $($field:ident: $ty:ty),* $(,)? }) => {
+        #[doc = concat!("Builder of [`", stringify!($settings), "`], from its defaults.")]
+        #[derive(Debug, Clone, Default)]
+        pub struct $builder {
+            settings: $settings,
+        }
+
+        impl $builder {
+            $(
+                #[doc = concat!("Sets `", stringify!($field), "` (see [`", stringify!($settings), "`]).")]
+                pub fn $field(mut self, value: $ty) -> Self {
+                    self.settings.$field = value;
+                    self
+                }
+            )*
+
+            /// The settings, or the first one outside its range.
+            pub fn build(self) -> Result<$settings, SettingsError> {
+                self.settings.validate()?;
+                Ok(self.settings)
+            }
+        }
+
+        impl $settings {
+            /// A builder starting from the defaults.
+            pub fn builder() -> $builder {
+                $builder::default()
+            }
+        }
+    };
+}
+
+settings_builder!(TrustRegionSettings, TrustRegionSettingsBuilder {
+    max_evaluations: usize,
+    start: Option<[f64; 2]>,
+    initial_radius: f64,
+    min_radius: f64,
+    grid: [usize; 2],
+});
+settings_builder!(NelderMeadSettings, NelderMeadSettingsBuilder {
+    max_evaluations: usize,
+    start: Option<[f64; 2]>,
+    initial_radius: f64,
+    min_radius: f64,
+    grid: [usize; 2],
+});
+settings_builder!(
+    ParticleSwarmSettings,
+    ParticleSwarmSettingsBuilder {
+        max_evaluations: usize,
+        min_radius: f64,
+        seed: u64,
+        grid: [usize; 2],
+    }
+);
+settings_builder!(GridSettings, GridSettingsBuilder { grid: [usize; 2] });
+
+/// The `[optimizer]` section, validated: the method and the settings it uses, nothing else.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OptimizerSettings {
+    TrustRegion(TrustRegionSettings),
+    NelderMead(NelderMeadSettings),
+    ParticleSwarm(ParticleSwarmSettings),
+    Grid(GridSettings),
+}
+
+impl Default for OptimizerSettings {
+    fn default() -> Self {
+        OptimizerSettings::TrustRegion(TrustRegionSettings::default())
+    }
+}
+
+impl OptimizerSettings {
+    pub fn method(&self) -> Method {
+        match self {
+            OptimizerSettings::TrustRegion(_) => Method::TrustRegion,
+            OptimizerSettings::NelderMead(_) => Method::NelderMead,
+            OptimizerSettings::ParticleSwarm(_) => Method::ParticleSwarm,
+            OptimizerSettings::Grid(_) => Method::Grid,
+        }
+    }
+
+    /// Points per axis (n_Ω, n_V0): the grid method's, and `drillopt map`'s default.
+    pub fn grid(&self) -> [usize; 2] {
+        match self {
+            OptimizerSettings::TrustRegion(s) => s.grid,
+            OptimizerSettings::NelderMead(s) => s.grid,
+            OptimizerSettings::ParticleSwarm(s) => s.grid,
+            OptimizerSettings::Grid(s) => s.grid,
+        }
+    }
+
+    /// Starting point (Ω rad/s, V0 m/s), for the methods that start from one.
+    pub fn start(&self) -> Option<[f64; 2]> {
+        match self {
+            OptimizerSettings::TrustRegion(s) => s.start,
+            OptimizerSettings::NelderMead(s) => s.start,
+            OptimizerSettings::ParticleSwarm(_) | OptimizerSettings::Grid(_) => None,
+        }
+    }
+
+    /// Most design points the method evaluates: `max_evaluations`, or the grid's n² nodes
+    /// (n = max(n_Ω, n_V0); nodes outside the linear constraints are skipped).
+    pub fn budget(&self) -> usize {
+        match self {
+            OptimizerSettings::TrustRegion(s) => s.max_evaluations,
+            OptimizerSettings::NelderMead(s) => s.max_evaluations,
+            OptimizerSettings::ParticleSwarm(s) => s.max_evaluations,
+            OptimizerSettings::Grid(s) => s.grid[0].max(s.grid[1]).pow(2),
+        }
+    }
+}
