@@ -1,9 +1,12 @@
 //! Time integration: Newmark average acceleration (γ = ½, β = ¼) with Newton iterations on the
-//! end-of-step acceleration, and a local error estimate for step-size control (MODEL.md §7).
+//! end-of-step acceleration, a local error estimate, and the adaptive stepper that controls the
+//! step size from it (MODEL.md §7).
 
+mod adaptive;
 mod lu;
 mod newmark;
 
+pub use adaptive::{AdaptiveStepper, StepCounters, StepError, StepLimits};
 pub use lu::{DenseLu, Singular};
 pub use newmark::{Newmark, NewmarkSettings, StepOutcome};
 
