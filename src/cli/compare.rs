@@ -2,14 +2,14 @@
 //! given operating points side by side, `compare.json`, and one plot overlaying their bit speeds
 //! (nominal sample).
 
-use super::study::{self, WorkJson};
+use super::study;
 use crate::model::OperatingPoint;
 use crate::problem::{Dimension, Problem};
 use crate::report;
+use crate::report::{CompareJson, StudyHeader, WorkJson};
 use crate::sim;
 use anyhow::Context;
 use clap::Args;
-use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -57,19 +57,6 @@ pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
     Ok(OperatingPoint { omega, v0 })
 }
 
-#[derive(Serialize)]
-struct CompareJson<'a> {
-    problem: &'a str,
-    problem_file: String,
-    #[serde(flatten)]
-    record: super::ProblemRecord<'a>,
-    version: &'a str,
-    seed: u64,
-    samples: usize,
-    points: Vec<crate::study::PointEvaluation>,
-    work: WorkJson,
-}
-
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let ops = args
@@ -102,13 +89,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         .collect::<Result<_, _>>()
         .context("modal analysis")?;
     let json = CompareJson {
-        problem: &problem.name,
-        problem_file: args.problem.display().to_string(),
-        record: super::ProblemRecord::of(&problem),
-        version: crate::VERSION,
-        seed: problem.study.seed,
-        samples: problem.study.samples,
-        points: points.clone(),
+        header: StudyHeader::of(&problem, &args.problem),
+        points: &points,
         work: WorkJson::of(&ev, clock.elapsed().as_secs_f64()),
     };
     report::write_json_atomic(&out.join("compare.json"), &json)?;

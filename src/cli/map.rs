@@ -1,13 +1,13 @@
 //! `drillopt map PROBLEM [--grid 15x15]`: the objective and every risk metric over a grid of the
 //! feasible box, as heat maps with the optimum marked, and `map.json`.
 
-use super::study::{self, WorkJson};
+use super::study;
 use crate::problem::Problem;
 use crate::report;
+use crate::report::{EvaluationJson, MapJson, PointJson, StudyHeader, WorkJson};
 use crate::solve;
 use anyhow::Context;
 use clap::Args;
-use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -27,25 +27,6 @@ pub struct MapArgs {
     /// No progress bar and no table.
     #[arg(long)]
     pub quiet: bool,
-}
-
-#[derive(Serialize)]
-struct MapJson<'a> {
-    problem: &'a str,
-    problem_file: String,
-    #[serde(flatten)]
-    record: super::ProblemRecord<'a>,
-    version: &'a str,
-    seed: u64,
-    samples: usize,
-    grid: [usize; 2],
-    omega_rad_s: &'a [f64],
-    v0_m_s: &'a [f64],
-    /// Row-major (V0 rows, Ω columns); null outside the linear constraints.
-    points: Vec<Option<super::solve::EvaluationJson>>,
-    optimum: Option<super::study::PointJson>,
-    optimum_objective: Option<f64>,
-    work: WorkJson,
 }
 
 pub fn parse_grid(text: &str) -> anyhow::Result<[usize; 2]> {
@@ -83,21 +64,16 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     let m = solve::map(&problem, &ev, grid).context("map")?;
     bar.finish_and_clear();
     let json = MapJson {
-        problem: &problem.name,
-        problem_file: args.problem.display().to_string(),
-        record: super::ProblemRecord::of(&problem),
-        version: crate::VERSION,
-        seed: problem.study.seed,
-        samples: problem.study.samples,
+        header: StudyHeader::of(&problem, &args.problem),
         grid,
         omega_rad_s: &m.omega,
         v0_m_s: &m.v0,
         points: m
             .points
             .iter()
-            .map(|p| p.as_ref().map(super::solve::evaluation_json))
+            .map(|p| p.as_ref().map(EvaluationJson::of))
             .collect(),
-        optimum: m.best.as_ref().map(super::study::PointJson::of),
+        optimum: m.best.as_ref().map(PointJson::of),
         optimum_objective: m.best.as_ref().and_then(|b| b.objective),
         work: WorkJson::of(&ev, clock.elapsed().as_secs_f64()),
     };

@@ -65,26 +65,6 @@ pub(crate) fn basis_error(
     anyhow::anyhow!("{}: key `{key}`: {e}", path.display())
 }
 
-/// What every report records of its problem besides name and path: the file's text and a
-/// stable hash of it (FNV-1a, 64 bits, hex), so that a result says exactly what produced it.
-#[derive(serde::Serialize)]
-pub(crate) struct ProblemRecord<'a> {
-    problem_hash: String,
-    problem_toml: &'a str,
-}
-
-impl<'a> ProblemRecord<'a> {
-    pub(crate) fn of(problem: &'a crate::problem::Problem) -> Self {
-        ProblemRecord {
-            problem_hash: format!(
-                "{:016x}",
-                crate::cache::stable_hash(problem.text.as_bytes())
-            ),
-            problem_toml: &problem.text,
-        }
-    }
-}
-
 /// Run a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {

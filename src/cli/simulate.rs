@@ -5,12 +5,11 @@
 use crate::metrics::{self, MetricsConfig};
 use crate::model::OperatingPoint;
 use crate::problem::{Dimension, Problem};
-use crate::report;
-use crate::sim::{self, SolverStats};
+use crate::report::{self, OperatingPointJson, ProblemRecord, RunStatus, SummaryJson};
+use crate::sim;
 use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// The operating point and window of a one-point command (`simulate`, `verify`).
@@ -40,46 +39,6 @@ pub struct SimulateArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
-}
-
-#[derive(Serialize)]
-struct OperatingPointJson {
-    omega_rad_s: f64,
-    v0_m_s: f64,
-    omega_rpm: f64,
-    v0_m_per_h: f64,
-}
-
-#[derive(Serialize)]
-struct Summary<'a> {
-    problem: &'a str,
-    problem_file: String,
-    #[serde(flatten)]
-    record: super::ProblemRecord<'a>,
-    version: &'a str,
-    operating_point: OperatingPointJson,
-    duration_s: f64,
-    /// Start of the analysis window (the problem's settling time, at most half the run), s.
-    settling_time_s: f64,
-    /// "preloaded" or "unloaded".
-    start: &'a str,
-    elements: usize,
-    /// Vectors of the reduced basis by family.
-    basis: crate::rom::BasisCounts,
-    /// The problem's nominal step and the largest step the run allowed (capped at 1/20 of the
-    /// lowest torsional and axial periods), s.
-    nominal_step_s: f64,
-    max_step_s: f64,
-    /// "completed"; "failed" with `error` saying when and why (what was computed is kept); or
-    /// "no metrics" when the run finished but its metrics could not be computed
-    /// (`metrics_error` says why).
-    status: &'a str,
-    error: Option<String>,
-    metrics: Option<metrics::Metrics>,
-    /// 95 % batch-means intervals of the time-mean metrics (10 batches of the analysis window).
-    confidence_95: Option<std::collections::BTreeMap<&'static str, metrics::BatchInterval>>,
-    metrics_error: Option<String>,
-    solver: &'a SolverStats,
 }
 
 pub(super) fn parse_override(
@@ -168,15 +127,15 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     };
     // A window too short to batch keeps its metrics and goes without intervals.
     let confidence_95 = metrics::batch_means(&output.series, &config).ok();
-    let summary = Summary {
+    let summary = SummaryJson {
         problem: &problem.name,
         problem_file: args.problem.display().to_string(),
-        record: super::ProblemRecord::of(&problem),
+        record: ProblemRecord::of(&problem),
         version: crate::VERSION,
         operating_point: OperatingPointJson {
             omega_rad_s: op.omega,
             v0_m_s: op.v0,
-            omega_rpm: op.omega * 60.0 / (2.0 * std::f64::consts::PI),
+            omega_rpm: crate::units::to_rpm(op.omega),
             v0_m_per_h: crate::units::to_m_per_h(op.v0),
         },
         duration_s: duration,
@@ -187,9 +146,9 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         nominal_step_s: problem.simulation.time_step,
         max_step_s: output.max_step,
         status: match (&output.error, &metrics_error) {
-            (None, None) => "completed",
-            (None, Some(_)) => "no metrics",
-            (Some(_), _) => "failed",
+            (None, None) => RunStatus::Completed,
+            (None, Some(_)) => RunStatus::NoMetrics,
+            (Some(_), _) => RunStatus::Failed,
         },
         error: output.error.as_ref().map(|e| e.to_string()),
         metrics,
@@ -224,7 +183,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn print_summary(s: &Summary, out: &Path) {
+fn print_summary(s: &SummaryJson, out: &Path) {
     let st = s.solver;
     println!(
         "{}: Ω = {:.2} rpm, V0 = {:.3} m/h, {} s simulated in {:.1} s ({} steps, {} rejected, min dt {:.2e} s)",

@@ -1,15 +1,10 @@
 //! `drillopt solve PROBLEM`: the robust optimum, written to `solution.json` with plots.
 
-use super::study::{self, PointJson, WorkJson};
+use super::study;
 use crate::problem::Problem;
-use crate::problem::study::{Constraints, Quantity};
-use crate::report;
-use crate::solve::{self, PathPoint, SolveOutcome};
-use crate::study::PointEvaluation;
-use crate::study::{ChanceValue, RiskValue};
+use crate::report::{self, SolutionJson, WorkJson};
+use crate::solve::{self, NumericalCheck, SolveOutcome};
 use clap::Args;
-use serde::Serialize;
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -27,192 +22,6 @@ pub struct SolveArgs {
     /// still printed).
     #[arg(long)]
     pub quiet: bool,
-}
-
-#[derive(Serialize)]
-struct ObjectiveJson {
-    /// The score (maximised): statistic of the quantity minus the weighted risk terms.
-    score: f64,
-    quantity: &'static str,
-    quantity_unit: &'static str,
-    statistic: crate::stats::Statistic,
-    quantity_value: f64,
-    risk: Vec<RiskValue>,
-}
-
-#[derive(Serialize)]
-struct LinearJson {
-    label: &'static str,
-    omega_coefficient: f64,
-    v0_coefficient: f64,
-    upper: f64,
-    value_at_optimum: f64,
-    active: bool,
-}
-
-#[derive(Serialize)]
-struct ConstraintsJson {
-    omega_rad_s: [f64; 2],
-    v0_m_s: [f64; 2],
-    linear: Vec<LinearJson>,
-    chance: Vec<ChanceValue>,
-}
-
-/// One evaluated point without its per-sample detail (also used by `map`).
-#[derive(Serialize)]
-pub(super) struct EvaluationJson {
-    omega_rad_s: f64,
-    v0_m_s: f64,
-    omega_rpm: f64,
-    v0_m_per_h: f64,
-    objective: Option<f64>,
-    feasible: bool,
-    failure: Option<String>,
-    mean_metrics: BTreeMap<String, f64>,
-}
-
-#[derive(Serialize)]
-struct SolutionJson<'a> {
-    problem: &'a str,
-    problem_file: String,
-    #[serde(flatten)]
-    record: super::ProblemRecord<'a>,
-    version: &'a str,
-    seed: u64,
-    samples: usize,
-    method: &'a str,
-    termination: &'a str,
-    /// converged | grid_complete | budget_exhausted | iteration_limit | no_feasible_point.
-    status: crate::solve::SolveStatus,
-    optimum: Option<PointJson>,
-    objective: Option<ObjectiveJson>,
-    metrics: Option<BTreeMap<String, f64>>,
-    metrics_per_sample: Option<Vec<crate::study::SampleResult>>,
-    constraints: Option<ConstraintsJson>,
-    evaluations: Vec<EvaluationJson>,
-    path: &'a [PathPoint],
-    work: WorkJson,
-    /// The basis refinement at the optimum (nominal parameters) beside the spread over samples.
-    numerical_check: Option<&'a NumericalCheckJson>,
-}
-
-/// One decision metric at the optimum: the numerical change under basis refinement (nominal
-/// parameters) against the statistical spread over the Monte Carlo samples.
-#[derive(Serialize)]
-struct CheckedMetric {
-    /// The nominal model's value with the problem's basis.
-    value: f64,
-    /// The same with every family of the basis enriched 1.5×.
-    refined_basis: f64,
-    /// |refined − value| / max(|value|, floor), as in `verify`.
-    rel_change: f64,
-    limit: f64,
-    converged: bool,
-    /// Standard deviation of the metric over the samples at the optimum (none with one sample).
-    sample_std_dev: Option<f64>,
-}
-
-#[derive(Serialize)]
-struct NumericalCheckJson {
-    basis: crate::rom::BasisCounts,
-    refined_basis: crate::rom::BasisCounts,
-    converged: bool,
-    metrics: BTreeMap<&'static str, CheckedMetric>,
-}
-
-/// Run the basis check of `verify` at the optimum and set it beside the sample spread.
-fn numerical_check(
-    problem: &Problem,
-    best: &PointEvaluation,
-) -> Result<NumericalCheckJson, crate::verify::VerifyError> {
-    use crate::verify::{Refinement, VerifySettings, verify_with};
-    let settings = VerifySettings {
-        op: crate::model::OperatingPoint {
-            omega: best.omega_rad_s,
-            v0: best.v0_m_s,
-        },
-        duration: problem.simulation.duration,
-        settling: problem.simulation.settling_time,
-    };
-    let report = verify_with(problem, settings, &[Refinement::Basis], |_| {})?;
-    let spread = |key: &str| {
-        let values: Vec<f64> = best
-            .samples
-            .iter()
-            .filter_map(|s| match &s.outcome {
-                crate::study::SampleOutcome::Metrics(m) => m.get(key).copied(),
-                _ => None,
-            })
-            .collect();
-        let n = values.len() as f64;
-        if n < 2.0 {
-            return None;
-        }
-        let mean = values.iter().sum::<f64>() / n;
-        Some((values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt())
-    };
-    let metrics = report
-        .metrics
-        .iter()
-        .map(|(&key, v)| {
-            (
-                key,
-                CheckedMetric {
-                    value: v.value,
-                    refined_basis: v.refined[Refinement::Basis.name()],
-                    rel_change: v.max_rel_change,
-                    limit: v.limit,
-                    converged: v.converged,
-                    sample_std_dev: spread(key),
-                },
-            )
-        })
-        .collect();
-    Ok(NumericalCheckJson {
-        basis: report.basis,
-        refined_basis: report.refined_basis,
-        converged: report.converged,
-        metrics,
-    })
-}
-
-fn constraints_json(c: &Constraints, best: &PointEvaluation) -> ConstraintsJson {
-    let scale = |l: &crate::problem::study::LinearConstraint| {
-        (l.omega * c.omega[1]).abs() + (l.v0 * c.v0[1]).abs() + l.upper.abs()
-    };
-    ConstraintsJson {
-        omega_rad_s: c.omega,
-        v0_m_s: c.v0,
-        linear: c
-            .linear
-            .iter()
-            .map(|l| {
-                let value = l.omega * best.omega_rad_s + l.v0 * best.v0_m_s;
-                LinearJson {
-                    label: l.label,
-                    omega_coefficient: l.omega,
-                    v0_coefficient: l.v0,
-                    upper: l.upper,
-                    value_at_optimum: value,
-                    active: (l.upper - value).abs() <= 1e-3 * scale(l),
-                }
-            })
-            .collect(),
-        chance: best.chance.clone(),
-    }
-}
-
-pub(super) fn evaluation_json(p: &PointEvaluation) -> EvaluationJson {
-    EvaluationJson {
-        omega_rad_s: p.omega_rad_s,
-        v0_m_s: p.v0_m_s,
-        omega_rpm: p.omega_rpm,
-        v0_m_per_h: p.v0_m_per_h,
-        objective: p.objective,
-        feasible: p.feasible,
-        failure: p.failure.clone(),
-        mean_metrics: p.mean_metrics.clone(),
-    }
 }
 
 /// Run the optimisation and write its report; returns the outcome for `batch`. `quiet`: no
@@ -245,7 +54,7 @@ pub fn solve_and_report(
             if !quiet {
                 eprintln!("checking the basis at the optimum (nominal parameters, basis x1.5) …");
             }
-            Some(numerical_check(problem, best).map_err(|e| {
+            Some(solve::numerical_check(problem, best).map_err(|e| {
                 anyhow::anyhow!(
                     "basis check at the optimum of {}: {e}",
                     problem_file.display()
@@ -271,45 +80,9 @@ fn write_report(
     out: &Path,
     outcome: &SolveOutcome,
     work: WorkJson,
-    check: Option<&NumericalCheckJson>,
+    check: Option<&NumericalCheck>,
 ) -> anyhow::Result<()> {
-    let study_ = &problem.study;
-    let constraints = study_
-        .constraints
-        .as_ref()
-        .expect("solve checked constraints");
-    let best = outcome.best.as_ref();
-    let (quantity, unit) = match study_.quantity {
-        Quantity::Rop => ("mean_rop_m_per_h", "m/h"),
-        Quantity::Efficiency => ("efficiency", "1"),
-    };
-    let json = SolutionJson {
-        problem: &problem.name,
-        problem_file: problem_file.display().to_string(),
-        record: super::ProblemRecord::of(problem),
-        version: crate::VERSION,
-        seed: study_.seed,
-        samples: study_.samples,
-        method: outcome.method.name(),
-        termination: &outcome.termination,
-        status: outcome.status,
-        optimum: best.map(PointJson::of),
-        objective: best.map(|b| ObjectiveJson {
-            score: b.objective.expect("best is scored"),
-            quantity,
-            quantity_unit: unit,
-            statistic: study_.statistic,
-            quantity_value: b.quantity.expect("best is scored"),
-            risk: b.risk.clone(),
-        }),
-        metrics: best.map(|b| b.mean_metrics.clone()),
-        metrics_per_sample: best.map(|b| b.samples.clone()),
-        constraints: best.map(|b| constraints_json(constraints, b)),
-        evaluations: outcome.evaluations.iter().map(evaluation_json).collect(),
-        path: &outcome.path,
-        work,
-        numerical_check: check,
-    };
+    let json = SolutionJson::of(problem, problem_file, outcome, work, check);
     report::write_json_atomic(&out.join("solution.json"), &json)?;
     super::study_plots::solve_plots(problem, out, outcome)?;
     Ok(())
@@ -344,7 +117,7 @@ fn print_summary(
     println!("  results in {}", out.display());
 }
 
-fn print_check(c: &NumericalCheckJson) {
+fn print_check(c: &NumericalCheck) {
     println!(
         "numerical check at the optimum (nominal parameters; basis {} → {}): {}",
         c.basis,

@@ -1,12 +1,12 @@
-//! What `solve`, `compare`, `map` and `batch` share: the evaluation cache, the robust evaluator
-//! with its progress bar, and the JSON shapes of operating points and evaluations.
+//! What `solve`, `compare`, `map` and `batch` share: the output folder, the evaluation cache, the
+//! robust evaluator with its progress bar, and the terminal table (the JSON shapes are
+//! [`crate::report`]'s).
 
 use crate::cache::EvalCache;
 use crate::problem::Problem;
 use crate::study::{PointEvaluation, RobustEvaluator};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// Where a command writes: `--out` or `results/<problem>/<command>/`.
@@ -51,48 +51,6 @@ pub fn evaluator<'a>(
     Ok(RobustEvaluator::new(problem, cache)
         .context("setting up the robust evaluation")?
         .with_progress(move || bar.inc(1)))
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct PointJson {
-    pub omega_rad_s: f64,
-    pub omega_rpm: f64,
-    pub v0_m_s: f64,
-    pub v0_m_per_h: f64,
-}
-
-impl PointJson {
-    pub fn of(p: &PointEvaluation) -> Self {
-        PointJson {
-            omega_rad_s: p.omega_rad_s,
-            omega_rpm: p.omega_rpm,
-            v0_m_s: p.v0_m_s,
-            v0_m_per_h: p.v0_m_per_h,
-        }
-    }
-}
-
-/// Work done, for the report and the terminal.
-#[derive(Debug, Clone, Serialize)]
-pub struct WorkJson {
-    pub simulations_run: usize,
-    pub simulations_from_cache: usize,
-    pub simulations_failed: usize,
-    pub samples_per_point: usize,
-    pub wall_time_s: f64,
-}
-
-impl WorkJson {
-    pub fn of(ev: &RobustEvaluator, wall_time_s: f64) -> Self {
-        use std::sync::atomic::Ordering::Relaxed;
-        WorkJson {
-            simulations_run: ev.counters.simulated.load(Relaxed),
-            simulations_from_cache: ev.counters.cached.load(Relaxed),
-            simulations_failed: ev.counters.failed.load(Relaxed),
-            samples_per_point: ev.samples_per_point(),
-            wall_time_s,
-        }
-    }
 }
 
 /// The terminal table of evaluated points.

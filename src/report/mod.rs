@@ -9,7 +9,9 @@
 mod atomic;
 mod csv;
 mod plots;
+mod study_json;
 mod study_plots;
+mod summary;
 #[cfg(test)]
 mod testdata;
 
@@ -19,7 +21,12 @@ pub use plots::{
     PLOT_BUCKETS, Panel, PlotError, decimate_min_max, plot_bit_axial, plot_bit_rotation,
     plot_panels, plot_probe_radial,
 };
+pub use study_json::{
+    CompareJson, ConstraintsJson, EvaluationJson, LinearJson, MapJson, ObjectiveJson, PointJson,
+    ProblemRecord, SolutionJson, StudyHeader, WorkJson,
+};
 pub use study_plots::{
     ConstraintLine, EvaluatedPoint, Region, plot_bit_speed_overlay, plot_heatmap,
     plot_metric_samples, plot_optimizer_path,
 };
+pub use summary::{OperatingPointJson, RunStatus, SummaryJson};

@@ -3,8 +3,10 @@
 //! robust optimum ([`solve`]), a grid of the feasible box ([`map`]) and given points ([`compare`]
 //! is just [`RobustEvaluator::evaluate`]).
 
+mod check;
 mod scaling;
 
+pub use check::{CheckedMetric, NumericalCheck, numerical_check};
 pub use scaling::Scaling;
 
 use crate::model::OperatingPoint;

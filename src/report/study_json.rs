@@ -1,0 +1,275 @@
+//! The JSON reports of the study commands (`solution.json`, `map.json`, `compare.json`) and the
+//! record of the problem every report carries. Shapes only: the numbers come from
+//! [`crate::study`] and [`crate::solve`]. Units are SI in the field names that say so
+//! (`omega_rad_s`, `v0_m_s`), with the driller's units beside them (`omega_rpm`, `v0_m_per_h`).
+
+use crate::problem::Problem;
+use crate::problem::study::{Constraints, LinearConstraint, Quantity};
+use crate::solve::{NumericalCheck, PathPoint, SolveOutcome, SolveStatus};
+use crate::stats::Statistic;
+use crate::study::{ChanceValue, PointEvaluation, RiskValue, RobustEvaluator, SampleResult};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// What every report records of its problem besides name and path: the file's text and a
+/// stable hash of it (FNV-1a, 64 bits, hex), so that a result says exactly what produced it.
+#[derive(Debug, Clone, Serialize)]
+pub struct ProblemRecord<'a> {
+    pub problem_hash: String,
+    pub problem_toml: &'a str,
+}
+
+impl<'a> ProblemRecord<'a> {
+    pub fn of(problem: &'a Problem) -> Self {
+        ProblemRecord {
+            problem_hash: format!("{:016x}", crate::hash::stable_hash(problem.text.as_bytes())),
+            problem_toml: &problem.text,
+        }
+    }
+}
+
+/// The head of every study report: problem, file, record, version, seed and samples.
+#[derive(Debug, Clone, Serialize)]
+pub struct StudyHeader<'a> {
+    pub problem: &'a str,
+    pub problem_file: String,
+    #[serde(flatten)]
+    pub record: ProblemRecord<'a>,
+    pub version: &'static str,
+    pub seed: u64,
+    pub samples: usize,
+}
+
+impl<'a> StudyHeader<'a> {
+    pub fn of(problem: &'a Problem, file: &Path) -> Self {
+        StudyHeader {
+            problem: &problem.name,
+            problem_file: file.display().to_string(),
+            record: ProblemRecord::of(problem),
+            version: crate::VERSION,
+            seed: problem.study.seed,
+            samples: problem.study.samples,
+        }
+    }
+}
+
+/// An operating point in SI and driller units.
+#[derive(Debug, Clone, Serialize)]
+pub struct PointJson {
+    pub omega_rad_s: f64,
+    pub omega_rpm: f64,
+    pub v0_m_s: f64,
+    pub v0_m_per_h: f64,
+}
+
+impl PointJson {
+    pub fn of(p: &PointEvaluation) -> Self {
+        PointJson {
+            omega_rad_s: p.omega_rad_s,
+            omega_rpm: p.omega_rpm,
+            v0_m_s: p.v0_m_s,
+            v0_m_per_h: p.v0_m_per_h,
+        }
+    }
+}
+
+/// Work done, for the report and the terminal.
+#[derive(Debug, Clone, Serialize)]
+pub struct WorkJson {
+    pub simulations_run: usize,
+    pub simulations_from_cache: usize,
+    pub simulations_failed: usize,
+    pub samples_per_point: usize,
+    pub wall_time_s: f64,
+}
+
+impl WorkJson {
+    pub fn of(ev: &RobustEvaluator, wall_time_s: f64) -> Self {
+        use std::sync::atomic::Ordering::Relaxed;
+        WorkJson {
+            simulations_run: ev.counters.simulated.load(Relaxed),
+            simulations_from_cache: ev.counters.cached.load(Relaxed),
+            simulations_failed: ev.counters.failed.load(Relaxed),
+            samples_per_point: ev.samples_per_point(),
+            wall_time_s,
+        }
+    }
+}
+
+/// One evaluated point without its per-sample detail (`solve`'s evaluations, `map`'s nodes).
+#[derive(Debug, Clone, Serialize)]
+pub struct EvaluationJson {
+    pub omega_rad_s: f64,
+    pub v0_m_s: f64,
+    pub omega_rpm: f64,
+    pub v0_m_per_h: f64,
+    pub objective: Option<f64>,
+    pub feasible: bool,
+    pub failure: Option<String>,
+    pub mean_metrics: BTreeMap<String, f64>,
+}
+
+impl EvaluationJson {
+    pub fn of(p: &PointEvaluation) -> Self {
+        EvaluationJson {
+            omega_rad_s: p.omega_rad_s,
+            v0_m_s: p.v0_m_s,
+            omega_rpm: p.omega_rpm,
+            v0_m_per_h: p.v0_m_per_h,
+            objective: p.objective,
+            feasible: p.feasible,
+            failure: p.failure.clone(),
+            mean_metrics: p.mean_metrics.clone(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ObjectiveJson {
+    /// The score (maximised): statistic of the quantity minus the weighted risk terms.
+    pub score: f64,
+    pub quantity: &'static str,
+    pub quantity_unit: &'static str,
+    pub statistic: Statistic,
+    pub quantity_value: f64,
+    pub risk: Vec<RiskValue>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct LinearJson {
+    pub label: &'static str,
+    pub omega_coefficient: f64,
+    pub v0_coefficient: f64,
+    pub upper: f64,
+    pub value_at_optimum: f64,
+    pub active: bool,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ConstraintsJson {
+    pub omega_rad_s: [f64; 2],
+    pub v0_m_s: [f64; 2],
+    pub linear: Vec<LinearJson>,
+    pub chance: Vec<ChanceValue>,
+}
+
+impl ConstraintsJson {
+    /// The constraints with their values at `best`; a linear constraint is active within 1e-3
+    /// of its scale.
+    pub fn at(c: &Constraints, best: &PointEvaluation) -> Self {
+        let scale = |l: &LinearConstraint| {
+            (l.omega * c.omega[1]).abs() + (l.v0 * c.v0[1]).abs() + l.upper.abs()
+        };
+        ConstraintsJson {
+            omega_rad_s: c.omega,
+            v0_m_s: c.v0,
+            linear: c
+                .linear
+                .iter()
+                .map(|l| {
+                    let value = l.omega * best.omega_rad_s + l.v0 * best.v0_m_s;
+                    LinearJson {
+                        label: l.label,
+                        omega_coefficient: l.omega,
+                        v0_coefficient: l.v0,
+                        upper: l.upper,
+                        value_at_optimum: value,
+                        active: (l.upper - value).abs() <= 1e-3 * scale(l),
+                    }
+                })
+                .collect(),
+            chance: best.chance.clone(),
+        }
+    }
+}
+
+/// `solution.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct SolutionJson<'a> {
+    #[serde(flatten)]
+    pub header: StudyHeader<'a>,
+    pub method: &'a str,
+    pub termination: &'a str,
+    /// converged | grid_complete | budget_exhausted | iteration_limit | no_feasible_point.
+    pub status: SolveStatus,
+    pub optimum: Option<PointJson>,
+    pub objective: Option<ObjectiveJson>,
+    pub metrics: Option<BTreeMap<String, f64>>,
+    pub metrics_per_sample: Option<Vec<SampleResult>>,
+    pub constraints: Option<ConstraintsJson>,
+    pub evaluations: Vec<EvaluationJson>,
+    pub path: &'a [PathPoint],
+    pub work: WorkJson,
+    /// The basis refinement at the optimum (nominal parameters) beside the spread over samples.
+    pub numerical_check: Option<&'a NumericalCheck>,
+}
+
+impl<'a> SolutionJson<'a> {
+    /// The report of a solve.
+    pub fn of(
+        problem: &'a Problem,
+        file: &Path,
+        outcome: &'a SolveOutcome,
+        work: WorkJson,
+        check: Option<&'a NumericalCheck>,
+    ) -> Self {
+        let study = &problem.study;
+        let best = outcome.best.as_ref();
+        let (quantity, unit) = match study.quantity {
+            Quantity::Rop => ("mean_rop_m_per_h", "m/h"),
+            Quantity::Efficiency => ("efficiency", "1"),
+        };
+        SolutionJson {
+            header: StudyHeader::of(problem, file),
+            method: outcome.method.name(),
+            termination: &outcome.termination,
+            status: outcome.status,
+            optimum: best.map(PointJson::of),
+            objective: best.map(|b| ObjectiveJson {
+                score: b.objective.expect("best is scored"),
+                quantity,
+                quantity_unit: unit,
+                statistic: study.statistic,
+                quantity_value: b.quantity.expect("best is scored"),
+                risk: b.risk.clone(),
+            }),
+            metrics: best.map(|b| b.mean_metrics.clone()),
+            metrics_per_sample: best.map(|b| b.samples.clone()),
+            constraints: best.and_then(|b| {
+                study
+                    .constraints
+                    .as_ref()
+                    .map(|c| ConstraintsJson::at(c, b))
+            }),
+            evaluations: outcome.evaluations.iter().map(EvaluationJson::of).collect(),
+            path: &outcome.path,
+            work,
+            numerical_check: check,
+        }
+    }
+}
+
+/// `map.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct MapJson<'a> {
+    #[serde(flatten)]
+    pub header: StudyHeader<'a>,
+    pub grid: [usize; 2],
+    pub omega_rad_s: &'a [f64],
+    pub v0_m_s: &'a [f64],
+    /// Row-major (V0 rows, Ω columns); null outside the linear constraints.
+    pub points: Vec<Option<EvaluationJson>>,
+    pub optimum: Option<PointJson>,
+    pub optimum_objective: Option<f64>,
+    pub work: WorkJson,
+}
+
+/// `compare.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct CompareJson<'a> {
+    #[serde(flatten)]
+    pub header: StudyHeader<'a>,
+    pub points: &'a [PointEvaluation],
+    pub work: WorkJson,
+}

@@ -1,0 +1,58 @@
+//! `summary.json`, the report of one simulated operating point (`drillopt simulate`).
+
+use super::ProblemRecord;
+use serde::Serialize;
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum RunStatus {
+    /// The whole window was simulated and its metrics computed.
+    #[serde(rename = "completed")]
+    Completed,
+    /// The run stopped early; `error` says when and why (what was computed is kept).
+    #[serde(rename = "failed")]
+    Failed,
+    /// The run finished but its metrics could not be computed (`metrics_error` says why).
+    #[serde(rename = "no metrics")]
+    NoMetrics,
+}
+
+/// An operating point in SI and driller units.
+#[derive(Debug, Clone, Serialize)]
+pub struct OperatingPointJson {
+    pub omega_rad_s: f64,
+    pub v0_m_s: f64,
+    pub omega_rpm: f64,
+    pub v0_m_per_h: f64,
+}
+
+/// `summary.json` of `drillopt simulate`.
+#[derive(Debug, Clone, Serialize)]
+pub struct SummaryJson<'a> {
+    pub problem: &'a str,
+    pub problem_file: String,
+    #[serde(flatten)]
+    pub record: ProblemRecord<'a>,
+    pub version: &'a str,
+    pub operating_point: OperatingPointJson,
+    pub duration_s: f64,
+    /// Start of the analysis window (the problem's settling time, at most half the run), s.
+    pub settling_time_s: f64,
+    /// "preloaded" or "unloaded".
+    pub start: &'a str,
+    pub elements: usize,
+    /// Vectors of the reduced basis by family.
+    pub basis: crate::rom::BasisCounts,
+    /// The problem's nominal step and the largest step the run allowed (capped at 1/20 of the
+    /// lowest torsional and axial periods), s.
+    pub nominal_step_s: f64,
+    pub max_step_s: f64,
+    pub status: RunStatus,
+    pub error: Option<String>,
+    pub metrics: Option<crate::metrics::Metrics>,
+    /// 95 % batch-means intervals of the time-mean metrics (10 batches of the analysis window).
+    pub confidence_95:
+        Option<std::collections::BTreeMap<&'static str, crate::metrics::BatchInterval>>,
+    pub metrics_error: Option<String>,
+    pub solver: &'a crate::sim::SolverStats,
+}
