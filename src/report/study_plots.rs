@@ -5,11 +5,10 @@
 //! ([`plot_bit_speed_overlay`]).
 //!
 //! Axes show Ω in rpm and V0 in m/h; the caller converts from SI and passes constraint lines in
-//! those units too (ω·Ω + v·V0 ≤ upper). Scores are maximised, so the colour scale (viridis,
-//! interpolated from 11 stops because plotters' `colormaps` feature is not enabled) runs from
-//! dark purple (low) to yellow (high). Points or cells without a value are grey. Like
-//! [`super::plots`], each SVG is rendered in memory and written with [`write_atomic`], and
-//! text is SVG `<text>`, so no font files are needed.
+//! those units too (ω·Ω + v·V0 ≤ upper). Scores are maximised, so the colour scale (plotters'
+//! viridis, `ViridisRGB`) runs from dark purple (low) to yellow (high). Points or cells without
+//! a value are grey. Like [`super::plots`], each SVG is rendered in memory and written with
+//! [`write_atomic`], and text is SVG `<text>`, so no font files are needed.
 
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
@@ -17,6 +16,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
+use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::sim::TimeSeries;
@@ -116,20 +116,6 @@ const RUN_COLORS: [RGBColor; 10] = [
     RGBColor(127, 127, 127),
     RGBColor(188, 189, 34),
     RGBColor(23, 190, 207),
-];
-/// Viridis at 0, 0.1, …, 1.
-const VIRIDIS: [(u8, u8, u8); 11] = [
-    (68, 1, 84),
-    (72, 36, 117),
-    (65, 68, 135),
-    (53, 95, 141),
-    (42, 120, 142),
-    (33, 145, 140),
-    (34, 168, 132),
-    (68, 191, 112),
-    (122, 209, 81),
-    (189, 223, 38),
-    (253, 231, 37),
 ];
 
 /// Draws the box of operating points with its infeasible part shaded grey and every constraint
@@ -256,15 +242,11 @@ fn render_and_write(
 
 // ---- colours, markers, numbers ----
 
-/// Viridis at `s` ∈ [0, 1] (clamped; NaN gives the low end).
+/// Viridis at `s` ∈ [0, 1] (clamped; NaN gives the low end), from plotters' `ViridisRGB`.
 fn viridis(s: f64) -> RGBColor {
+    // plotters clamps but turns NaN into an index it unwraps: sanitise first.
     let s = if s.is_nan() { 0.0 } else { s.clamp(0.0, 1.0) };
-    let x = s * (VIRIDIS.len() - 1) as f64;
-    let k = (x.floor() as usize).min(VIRIDIS.len() - 2);
-    let f = x - k as f64;
-    let (a, b) = (VIRIDIS[k], VIRIDIS[k + 1]);
-    let mix = |p: u8, q: u8| (f64::from(p) + f * (f64::from(q) - f64::from(p))).round() as u8;
-    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+    ViridisRGB.get_color(s)
 }
 
 /// The colour of `value` on a scale over the data range [lo, hi]; a constant (lo = hi) maps to
@@ -1671,14 +1653,25 @@ mod tests {
 
     // ---- helpers ----
 
+    /// Within `tol` units per channel of the colour `hex` ("#rrggbb").
+    fn near(c: RGBColor, hex: &str, tol: u8) -> bool {
+        let channel = |k: usize| u8::from_str_radix(&hex[1 + 2 * k..3 + 2 * k], 16).unwrap();
+        [c.0, c.1, c.2]
+            .iter()
+            .enumerate()
+            .all(|(k, &v)| v.abs_diff(channel(k)) <= tol)
+    }
+
     #[test]
-    fn viridis_ends_and_clamps() {
-        assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
-        assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
-        assert_eq!(viridis(0.5), RGBColor(33, 145, 140));
+    fn viridis_matches_the_published_map_and_clamps() {
+        // matplotlib's viridis: #440154 at 0, #21918c at 0.5, #fde725 at 1.
+        assert!(near(viridis(0.0), "#440154", 3), "{:?}", viridis(0.0));
+        assert!(near(viridis(0.5), "#21918c", 3), "{:?}", viridis(0.5));
+        assert!(near(viridis(1.0), "#fde725", 3), "{:?}", viridis(1.0));
         assert_eq!(viridis(-3.0), viridis(0.0));
         assert_eq!(viridis(7.0), viridis(1.0));
         assert_eq!(viridis(f64::NAN), viridis(0.0));
+        assert_eq!(viridis(f64::INFINITY), viridis(1.0));
         assert_eq!(scale_color(5.0, (0.0, 10.0)), viridis(0.5));
         assert_eq!(scale_color(2.0, (0.0, 10.0)), viridis(0.2));
         assert_eq!(scale_color(3.0, (3.0, 3.0)), viridis(0.5));
