@@ -40,12 +40,12 @@ pub enum PlotError {
     /// Plotters refused to draw (message of its error).
     #[error("drawing {}: {message}", .path.display())]
     Draw { path: PathBuf, message: String },
-    /// The SVG could not be written.
-    #[error("writing {}: {source}", .path.display())]
+    /// The SVG could not be written; `error` names the path (see [`write_atomic`]), so it is
+    /// the whole message and not a source, which would print it twice in an error chain.
+    #[error("{error}")]
     Write {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// A channel does not have one value per sample time.
     #[error("plotting {}: '{channel}' has {len} samples but t has {t_len}", .path.display())]
@@ -191,9 +191,9 @@ pub fn plot_panels(
         path: path.to_owned(),
         message,
     })?;
-    write_atomic(path, svg.as_bytes()).map_err(|source| PlotError::Write {
+    write_atomic(path, svg.as_bytes()).map_err(|error| PlotError::Write {
         path: path.to_owned(),
-        source,
+        error,
     })
 }
 

@@ -234,9 +234,9 @@ fn render_and_write(
                 message: e.to_string(),
             })?;
     }
-    write_atomic(out, svg.as_bytes()).map_err(|source| PlotError::Write {
+    write_atomic(out, svg.as_bytes()).map_err(|error| PlotError::Write {
         path: out.to_owned(),
-        source,
+        error,
     })
 }
 
@@ -1648,6 +1648,11 @@ mod tests {
         // A path that cannot be a file: an error naming it, and the old file is untouched.
         let err = plot_metric_samples("Third", &metrics, dir.path()).unwrap_err();
         assert!(matches!(err, PlotError::Write { .. }), "{err}");
+        // The path once and the cause once, also through an error chain.
+        let chain = format!("{:#}", anyhow::Error::from(err));
+        let path = dir.path().display().to_string();
+        assert_eq!(chain.matches(&path).count(), 1, "{chain}");
+        assert_eq!(chain.matches("os error").count(), 1, "{chain}");
         assert!(read(&out).contains("Second"));
     }
 
