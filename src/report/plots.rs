@@ -4,6 +4,11 @@
 //! the borehole wall r = gap drawn dashed. The paper puts each pair side by side; here the panels
 //! are stacked so they share the time axis.
 //!
+//! Axes are in the units a driller reads on the terminal (see [`super::units`]): bit velocity in
+//! m/h with the imposed V0 as a reference line, rotation in revolutions, angular velocity in rpm
+//! with the imposed Ω as a reference line, radial displacement in mm. Every title states the
+//! operating point.
+//!
 //! A run records 10⁵–10⁶ samples at adaptive, non-uniform times. Plotting every one would make
 //! multi-megabyte SVGs with far more points than pixels, so each curve is first reduced by
 //! [`decimate_min_max`]: the time axis is cut into [`PLOT_BUCKETS`] equal intervals and only the
@@ -17,9 +22,11 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use crate::model::OperatingPoint;
 use crate::sim::TimeSeries;
 
 use super::atomic::write_atomic;
+use super::units::{M_PER_H_PER_M_PER_S, REV_PER_RAD, RPM_PER_RAD_S, operating_point_text, short};
 
 /// Number of time buckets a curve is reduced to before plotting (≤ 2 points each).
 pub const PLOT_BUCKETS: usize = 2000;
@@ -79,65 +86,93 @@ pub struct Panel<'a> {
     pub caption: &'a str,
     /// Y axis label with unit, e.g. "u̇(L) [m/s]".
     pub y_label: &'a str,
-    /// One value per sample time, in the units of `y_label`.
+    /// One value per sample time, in the series' own (SI) units.
     pub y: &'a [f64],
+    /// Factor from the values of `y` to the units of `y_label` (1 when they agree).
+    pub scale: f64,
     /// Optional horizontal reference line (value in the units of `y_label`, legend text), drawn
     /// dashed and always inside the y range.
     pub reference: Option<(f64, &'a str)>,
 }
 
-/// Bit displacement u(L) [m] and bit velocity u̇(L) [m/s] against t [s] (paper Fig. 3).
-pub fn plot_bit_axial(series: &TimeSeries, path: &Path) -> Result<(), PlotError> {
+/// Bit displacement u(L) \[m\] and bit velocity u̇(L) \[m/h\] against t \[s\] (paper Fig. 3) of a
+/// run at `op` (SI), with the imposed V0 as a reference line.
+pub fn plot_bit_axial(
+    series: &TimeSeries,
+    op: &OperatingPoint,
+    path: &Path,
+) -> Result<(), PlotError> {
+    let v0 = op.v0 * M_PER_H_PER_M_PER_S;
+    let v0_label = format!("V0 = {} m/h (imposed at the top)", short(v0));
     plot_panels(
         path,
-        "Drill-bit axial displacement and velocity",
+        &format!(
+            "Drill-bit axial displacement and velocity, {}",
+            operating_point_text(op)
+        ),
         &series.t,
         &[
             Panel {
                 caption: "Bit displacement u(L)",
                 y_label: "u(L) [m]",
                 y: &series.bit_displacement,
+                scale: 1.0,
                 reference: None,
             },
             Panel {
                 caption: "Bit velocity u\u{307}(L)",
-                y_label: "u\u{307}(L) [m/s]",
+                y_label: "u\u{307}(L) [m/h]",
                 y: &series.bit_velocity,
-                reference: None,
+                scale: M_PER_H_PER_M_PER_S,
+                reference: Some((v0, v0_label.as_str())),
             },
         ],
     )
 }
 
-/// Bit rotation θx(L) [rad] and angular velocity θ̇x(L) [rad/s] against t [s] (paper Fig. 4).
-pub fn plot_bit_rotation(series: &TimeSeries, path: &Path) -> Result<(), PlotError> {
+/// Bit rotation θx(L) \[rev\] and angular velocity θ̇x(L) \[rpm\] against t \[s\] (paper
+/// Fig. 4) of a run at `op` (SI), with the imposed Ω as a reference line.
+pub fn plot_bit_rotation(
+    series: &TimeSeries,
+    op: &OperatingPoint,
+    path: &Path,
+) -> Result<(), PlotError> {
+    let omega = op.omega * RPM_PER_RAD_S;
+    let omega_label = format!("\u{3a9} = {} rpm (imposed at the top)", short(omega));
     plot_panels(
         path,
-        "Drill-bit rotation and angular velocity",
+        &format!(
+            "Drill-bit rotation and angular velocity, {}",
+            operating_point_text(op)
+        ),
         &series.t,
         &[
             Panel {
                 caption: "Bit rotation \u{3b8}x(L)",
-                y_label: "\u{3b8}x(L) [rad]",
+                y_label: "\u{3b8}x(L) [rev]",
                 y: &series.bit_rotation,
+                scale: REV_PER_RAD,
                 reference: None,
             },
             Panel {
                 caption: "Bit angular velocity \u{3b8}\u{307}x(L)",
-                y_label: "\u{3b8}\u{307}x(L) [rad/s]",
+                y_label: "\u{3b8}\u{307}x(L) [rpm]",
                 y: &series.bit_angular_velocity,
-                reference: None,
+                scale: RPM_PER_RAD_S,
+                reference: Some((omega, omega_label.as_str())),
             },
         ],
     )
 }
 
-/// Radial displacement r [mm] at probe `probe_index` against t [s], with the wall r = `gap`
-/// (given in m) dashed (paper Fig. 5). A non-finite or non-positive `gap` draws no wall.
+/// Radial displacement r \[mm\] at probe `probe_index` against t \[s\] of a run at `op` (SI), with
+/// the wall r = `gap` (given in m) dashed (paper Fig. 5). A non-finite or non-positive `gap`
+/// draws no wall.
 pub fn plot_probe_radial(
     series: &TimeSeries,
     probe_index: usize,
     gap: f64,
+    op: &OperatingPoint,
     path: &Path,
 ) -> Result<(), PlotError> {
     let count = series.probe_positions.len().min(series.probe_radial.len());
@@ -149,13 +184,12 @@ pub fn plot_probe_radial(
         });
     }
     let x = series.probe_positions[probe_index];
-    let r_mm: Vec<f64> = series.probe_radial[probe_index]
-        .iter()
-        .map(|r| r * 1e3)
-        .collect();
     let gap_mm = gap * 1e3;
     let wall_label = format!("wall, r = gap = {gap_mm:.4} mm");
-    let title = format!("Radial displacement at x = {x} m");
+    let title = format!(
+        "Radial displacement at x = {x} m, {}",
+        operating_point_text(op)
+    );
     let caption = format!("Probe {probe_index}: r = \u{221a}(v\u{b2} + w\u{b2})");
     plot_panels(
         path,
@@ -164,15 +198,16 @@ pub fn plot_probe_radial(
         &[Panel {
             caption: &caption,
             y_label: "r [mm]",
-            y: &r_mm,
+            y: &series.probe_radial[probe_index],
+            scale: 1e3,
             reference: (gap_mm.is_finite() && gap_mm > 0.0)
                 .then_some((gap_mm, wall_label.as_str())),
         }],
     )
 }
 
-/// Writes an SVG figure titled `title` with `panels` stacked top to bottom, each y(t) against
-/// the shared sample times `t` [s]. Every panel must have one value per entry of `t`.
+/// Writes an SVG figure titled `title` with `panels` stacked top to bottom, each `scale`·y(t)
+/// against the shared sample times `t` \[s\]. Every panel must have one value per entry of `t`.
 pub fn plot_panels(
     path: &Path,
     title: &str,
@@ -337,7 +372,8 @@ fn draw_panel(
     t: &[f64],
     panel: &Panel<'_>,
 ) -> DrawResult {
-    let points = decimate_min_max(t, panel.y, PLOT_BUCKETS);
+    let mut points = decimate_min_max(t, panel.y, PLOT_BUCKETS);
+    points.iter_mut().for_each(|p| p.1 *= panel.scale);
     let (t_lo, t_hi) = axis_range(points.iter().map(|p| p.0), 0.0);
     let reference = panel.reference.filter(|(v, _)| v.is_finite());
     let (y_lo, y_hi) = axis_range(
@@ -392,7 +428,7 @@ fn draw_panel(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::testdata::{GAP, PROBE_X, synthetic_series};
+    use crate::report::testdata::{GAP, OP, PROBE_X, synthetic_series};
 
     fn read(path: &Path) -> String {
         std::fs::read_to_string(path).unwrap()
@@ -538,16 +574,18 @@ mod tests {
         let s = synthetic_series(100_000);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("fig/bit_axial.svg");
-        plot_bit_axial(&s, &path).unwrap();
+        plot_bit_axial(&s, &OP, &path).unwrap();
         let svg = read(&path);
         assert!(svg.starts_with("<svg"), "{}", &svg[..svg.len().min(200)]);
         assert!(svg.trim_end().ends_with("</svg>"));
         for text in [
-            "Drill-bit axial displacement and velocity",
+            // The synthetic run's operating point: 10 rad/s, 0.01 m/s.
+            "Drill-bit axial displacement and velocity, \u{3a9} = 95.49 rpm, V0 = 36 m/h",
             "Bit displacement u(L)",
             "Bit velocity u\u{307}(L)",
             "u(L) [m]",
-            "u\u{307}(L) [m/s]",
+            "u\u{307}(L) [m/h]",
+            "V0 = 36 m/h (imposed at the top)",
             "t [s]",
         ] {
             assert!(svg.contains(text), "missing {text:?}");
@@ -565,17 +603,19 @@ mod tests {
         let s = synthetic_series(100_000);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("bit_rotation.svg");
-        plot_bit_rotation(&s, &path).unwrap();
+        plot_bit_rotation(&s, &OP, &path).unwrap();
         let svg = read(&path);
         for text in [
-            "Drill-bit rotation and angular velocity",
+            "Drill-bit rotation and angular velocity, \u{3a9} = 95.49 rpm, V0 = 36 m/h",
             "Bit rotation \u{3b8}x(L)",
-            "\u{3b8}x(L) [rad]",
-            "\u{3b8}\u{307}x(L) [rad/s]",
+            "\u{3b8}x(L) [rev]",
+            "\u{3b8}\u{307}x(L) [rpm]",
+            "\u{3a9} = 95.49 rpm (imposed at the top)",
             "t [s]",
         ] {
             assert!(svg.contains(text), "missing {text:?}");
         }
+        assert!(!svg.contains("rad/s") && !svg.contains("[rad]"));
         assert_eq!(
             polyline_point_counts(&svg)
                 .iter()
@@ -585,14 +625,44 @@ mod tests {
         );
     }
 
+    /// The contents of every `<text>` element that is a number.
+    fn numbers(svg: &str) -> Vec<f64> {
+        svg.split("<text ")
+            .skip(1)
+            .filter_map(|s| s[s.find('>')? + 1..s.find("</text>")?].trim().parse().ok())
+            .collect()
+    }
+
+    #[test]
+    fn bit_speed_is_in_rpm_with_a_dashed_line_at_omega() {
+        // A bit turning steadily at Ω = 10 rad/s: ticks near 95.5 rpm, none near 10 (rad/s),
+        // and the dashed red reference line at Ω with its legend.
+        let mut s = synthetic_series(3_000);
+        s.bit_angular_velocity
+            .iter_mut()
+            .for_each(|w| *w = OP.omega);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("rotation.svg");
+        plot_bit_rotation(&s, &OP, &path).unwrap();
+        let svg = read(&path);
+        let ticks = numbers(&svg);
+        assert!(ticks.iter().any(|&v| (v - 95.5).abs() < 0.6), "{ticks:?}");
+        assert!(!ticks.iter().any(|&v| (v - 10.0).abs() < 0.6), "{ticks:?}");
+        assert!(svg.contains("\u{3a9} = 95.49 rpm (imposed at the top)"));
+        let red = svg.matches("stroke=\"#FF0000\"").count();
+        assert!(red > 20, "{red} red strokes");
+    }
+
     #[test]
     fn probe_radial_plot_has_position_units_and_wall() {
         let s = synthetic_series(100_000);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("radial.svg");
-        plot_probe_radial(&s, 0, GAP, &path).unwrap();
+        plot_probe_radial(&s, 0, GAP, &OP, &path).unwrap();
         let svg = read(&path);
-        assert!(svg.contains(&format!("Radial displacement at x = {PROBE_X} m")));
+        assert!(svg.contains(&format!(
+            "Radial displacement at x = {PROBE_X} m, \u{3a9} = 95.49 rpm, V0 = 36 m/h"
+        )));
         assert!(svg.contains("r [mm]"));
         assert!(svg.contains(&format!("wall, r = gap = {:.4} mm", GAP * 1e3)));
         // The dashed wall is many short segments in red, besides the legend sample.
@@ -600,7 +670,7 @@ mod tests {
         assert!(red_paths > 20, "{red_paths} red strokes");
 
         let no_wall = dir.path().join("radial_no_wall.svg");
-        plot_probe_radial(&s, 0, f64::NAN, &no_wall).unwrap();
+        plot_probe_radial(&s, 0, f64::NAN, &OP, &no_wall).unwrap();
         let svg = read(&no_wall);
         assert!(!svg.contains("wall"));
         assert_eq!(svg.matches("stroke=\"#FF0000\"").count(), 0);
@@ -611,7 +681,7 @@ mod tests {
         let s = synthetic_series(100);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("radial.svg");
-        let err = plot_probe_radial(&s, 1, GAP, &path).unwrap_err();
+        let err = plot_probe_radial(&s, 1, GAP, &OP, &path).unwrap_err();
         assert!(
             matches!(
                 err,
@@ -633,7 +703,7 @@ mod tests {
         s.bit_velocity.pop();
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("axial.svg");
-        let err = plot_bit_axial(&s, &path).unwrap_err();
+        let err = plot_bit_axial(&s, &OP, &path).unwrap_err();
         assert!(
             matches!(
                 err,
@@ -658,7 +728,7 @@ mod tests {
         s.bit_rotation.iter_mut().for_each(|v| *v = f64::NAN);
         let dir = tempfile::tempdir().unwrap();
         let axial = dir.path().join("axial.svg");
-        plot_bit_axial(&s, &axial).unwrap();
+        plot_bit_axial(&s, &OP, &axial).unwrap();
         let svg = read(&axial);
         assert!(svg.contains("Bit velocity"));
         // Both constant curves are drawn with their finite points (3000 minus the 2 skipped): 3000 is below the decimation threshold.
@@ -668,7 +738,7 @@ mod tests {
             "{counts:?}"
         );
         let rotation = dir.path().join("rotation.svg");
-        plot_bit_rotation(&s, &rotation).unwrap();
+        plot_bit_rotation(&s, &OP, &rotation).unwrap();
         assert!(read(&rotation).contains("Bit rotation"));
     }
 }

@@ -7,8 +7,9 @@ use plotters::style::text_anchor::{HPos, VPos};
 
 use crate::report::plots::{PlotError, axis_range, tick_label};
 
+use super::StarredPoint;
 use super::geometry::{cell_edges, is_finite_point};
-use super::side::{LegendEntry, draw_colorbar, draw_legend, optimum_caption, split_body};
+use super::side::{LegendEntry, draw_colorbar, draw_legend, split_body, star_caption};
 use super::style::{
     Area, DrawResult, FONT, HEIGHT, NO_VALUE_CELL, OMEGA_LABEL, Point, V0_LABEL, WIDTH,
     render_and_write, scale_color, star_marker, text_style, value_range,
@@ -18,14 +19,16 @@ use super::style::{
 /// coloured by value, with a colour bar labelled `value_label` and its range; `None` (or
 /// non-finite) cells are grey and hatched. `values[j * omega_rpm.len() + i]` belongs to
 /// (Ω\[i\], V0\[j\]). Cell edges lie halfway between neighbouring nodes; the grid need not be
-/// uniform. `optimum` (Ω in rpm, V0 in m/h) is marked with a star.
+/// uniform. A field with one value everywhere gets that value, said to be constant, instead of
+/// a colour bar. `star` is marked with a star, named in the legend and the caption by its
+/// label (e.g. "best map node": say which point it is, an optimum or a grid node).
 pub fn plot_heatmap(
     title: &str,
     value_label: &str,
     omega_rpm: &[f64],
     v0_m_per_h: &[f64],
     values: &[Option<f64>],
-    optimum: Option<(f64, f64)>,
+    star: Option<&StarredPoint>,
     out: &Path,
 ) -> Result<(), PlotError> {
     let expected = omega_rpm.len().checked_mul(v0_m_per_h.len());
@@ -43,7 +46,7 @@ pub fn plot_heatmap(
         values,
     };
     render_and_write(out, (WIDTH, HEIGHT), |root| {
-        draw_heatmap(root, title, value_label, &grid, optimum)
+        draw_heatmap(root, title, value_label, &grid, star)
     })
 }
 
@@ -59,7 +62,7 @@ fn draw_heatmap(
     title: &str,
     value_label: &str,
     grid: &Grid<'_>,
-    optimum: Option<(f64, f64)>,
+    star: Option<&StarredPoint>,
 ) -> DrawResult {
     root.fill(&WHITE)?;
     let body = root.titled(title, (FONT, 26))?;
@@ -67,7 +70,10 @@ fn draw_heatmap(
 
     let x_edges = cell_edges(grid.omega);
     let y_edges = cell_edges(grid.v0);
-    let optimum = optimum.filter(is_finite_point);
+    let optimum = star
+        .map(|s| (s.omega_rpm, s.v0_m_per_h))
+        .filter(is_finite_point);
+    let star_label = star.map_or("", |s| s.label.as_str());
     let view = |edges: &[Option<(f64, f64)>], opt: Option<f64>| {
         let cells = axis_range(edges.iter().flatten().flat_map(|e| [e.0, e.1]), 0.0);
         match opt {
@@ -80,7 +86,7 @@ fn draw_heatmap(
     let (y_lo, y_hi) = view(&y_edges, optimum.map(|o| o.1));
 
     let mut chart = ChartBuilder::on(&plot_area)
-        .caption(optimum_caption(optimum), (FONT, 17))
+        .caption(star_caption(star_label, optimum), (FONT, 17))
         .margin(10)
         .margin_right(20)
         .x_label_area_size(50)
@@ -155,7 +161,7 @@ fn draw_heatmap(
         ));
     }
     if optimum.is_some() {
-        entries.push((LegendEntry::Optimum, "optimum".into()));
+        entries.push((LegendEntry::Star, star_label.to_owned()));
     }
     draw_legend(&legend_area, &entries)
 }
@@ -165,6 +171,14 @@ mod tests {
     use super::*;
     use crate::report::study_plots::style::{COLORBAR_STEPS, STAR_FILL, viridis};
     use crate::report::study_plots::test_support::*;
+
+    fn starred(omega_rpm: f64, v0_m_per_h: f64) -> StarredPoint {
+        StarredPoint {
+            omega_rpm,
+            v0_m_per_h,
+            label: "best map node".to_owned(),
+        }
+    }
 
     #[test]
     fn heatmap_has_one_cell_per_node_and_grey_missing_cells() {
@@ -182,7 +196,7 @@ mod tests {
             &omega,
             &v0,
             &values,
-            Some((70.0, 15.0)),
+            Some(&starred(70.0, 15.0)),
             &out,
         )
         .unwrap();
@@ -198,9 +212,10 @@ mod tests {
                 "max 4.000",
                 "min -1.000",
                 "no value (infeasible/failed)",
-                "optimum: \u{3a9} = 70.00 rpm, V0 = 15.00 m/h",
+                "best map node: \u{3a9} = 70.00 rpm, V0 = 15.00 m/h",
             ],
         );
+        assert!(!svg.contains("optimum") && !svg.contains("constant"));
         // Three missing cells and the legend swatch.
         assert_eq!(
             count_with(&svg, "rect", &format!("fill={}", hex(NO_VALUE_CELL))),
@@ -271,12 +286,12 @@ mod tests {
             &[1.0, 2.0],
             &[3.0],
             &[None, None],
-            Some((9.0, 9.0)),
+            Some(&starred(9.0, 9.0)),
             &out,
         )
         .unwrap();
         let svg = read(&out);
-        assert_contains(&svg, &["All missing", "J: no values", "optimum"]);
+        assert_contains(&svg, &["All missing", "J: no values", "best map node"]);
         assert_eq!(
             count_with(&svg, "rect", &format!("fill={}", hex(NO_VALUE_CELL))),
             3
@@ -294,7 +309,46 @@ mod tests {
         )
         .unwrap();
         let svg = read(&out);
-        assert_contains(&svg, &["One", "max 2.000", "min 2.000"]);
+        assert_contains(&svg, &["One", "constant: 2.000"]);
         assert!(!svg.contains("no value"));
+    }
+
+    #[test]
+    fn a_constant_field_shows_its_value_not_an_invented_range() {
+        // Zero everywhere (no wall impacts at any node): once a −1…1 colour bar.
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("zero.svg");
+        plot_heatmap(
+            "Impacts",
+            "wall impacts [1/s]",
+            &[40.0, 80.0, 120.0],
+            &[2.0, 20.0],
+            &[Some(0.0), Some(0.0), None, Some(0.0), Some(0.0), Some(-0.0)],
+            None,
+            &out,
+        )
+        .unwrap();
+        let svg = read(&out);
+        let t = texts(&svg);
+        for text in [
+            "wall impacts [1/s]",
+            "constant: 0",
+            "the same at every point",
+        ] {
+            assert!(t.contains(&text), "{text:?} in {t:?}");
+        }
+        assert!(
+            !t.iter()
+                .any(|t| t.starts_with("max ") || t.starts_with("min "))
+        );
+        // No tick of a colour bar: the only numbers are the Ω and V0 ticks of the axes.
+        assert!(!t.contains(&"-1.0") && !t.contains(&"-1"), "{t:?}");
+        // Five cells in the middle colour, and the swatch.
+        assert_eq!(
+            count_with(&svg, "rect", &format!("fill={}", hex(viridis(0.5)))),
+            5 + 1
+        );
+        // Nothing starred, nothing said about a star.
+        assert!(!svg.contains("best") && !svg.contains("optimum"));
     }
 }

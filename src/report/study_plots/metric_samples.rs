@@ -12,25 +12,86 @@ use super::style::{
     render_and_write, text_style,
 };
 
-/// Draws one row per metric `(name, samples)`: every Monte Carlo sample as a dot on the metric's
-/// own value axis, and their mean as a red line, with the mean and sample count in the caption.
-/// Non-finite samples are left out and counted.
-pub fn plot_metric_samples(
-    title: &str,
-    metrics: &[(String, Vec<f64>)],
-    out: &Path,
-) -> Result<(), PlotError> {
-    let rows = u32::try_from(metrics.len().max(1)).unwrap_or(u32::MAX);
-    let height = TITLE_HEIGHT.saturating_add(METRIC_ROW_HEIGHT.saturating_mul(rows));
+/// One metric's row of [`plot_metric_samples`]: its samples and the values marked on its axis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MetricRow {
+    /// Name and unit, e.g. "mean WOB \[kN\]".
+    pub label: String,
+    /// One value per Monte Carlo sample, in the unit of `label`.
+    pub samples: Vec<f64>,
+    /// Values marked across the axis (statistics, limits), in the unit of `label`.
+    pub marks: Vec<Mark>,
+}
+
+impl MetricRow {
+    /// A row marked with its sample mean (of the finite samples; no mark without any).
+    pub fn with_mean(label: String, samples: Vec<f64>) -> Self {
+        let finite: Vec<f64> = samples.iter().copied().filter(|v| v.is_finite()).collect();
+        let marks = (!finite.is_empty())
+            .then(|| Mark {
+                name: "mean".to_owned(),
+                value: finite.iter().sum::<f64>() / finite.len() as f64,
+                kind: MarkKind::Statistic,
+                note: String::new(),
+            })
+            .into_iter()
+            .collect();
+        MetricRow {
+            label,
+            samples,
+            marks,
+        }
+    }
+}
+
+/// A value marked across a metric's axis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mark {
+    /// What the value is, e.g. "CVaR 90 % (objective)" or "chance limit".
+    pub name: String,
+    /// The value, in the unit of the row.
+    pub value: f64,
+    /// How it is drawn.
+    pub kind: MarkKind,
+    /// Said after the value in the caption, e.g. "P(above) = 20 %, at most 10 % allowed"; may
+    /// be empty.
+    pub note: String,
+}
+
+/// How a [`Mark`] is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MarkKind {
+    /// A statistic of the samples (mean, CVaR, quantile…): a solid red line.
+    Statistic,
+    /// A limit the samples are held to (a chance constraint's threshold): a dashed black line.
+    Limit,
+}
+
+impl MarkKind {
+    fn line(self) -> &'static str {
+        match self {
+            MarkKind::Statistic => "red",
+            MarkKind::Limit => "dashed",
+        }
+    }
+}
+
+/// Draws one row per metric: every Monte Carlo sample as a dot on the metric's own value axis
+/// and every mark across it (statistics solid red, limits dashed black), with the marks' values
+/// and the sample count in the caption. Non-finite samples are left out and counted; a mark
+/// with a non-finite value is named in the caption but not drawn.
+pub fn plot_metric_samples(title: &str, rows: &[MetricRow], out: &Path) -> Result<(), PlotError> {
+    let n = u32::try_from(rows.len().max(1)).unwrap_or(u32::MAX);
+    let height = TITLE_HEIGHT.saturating_add(METRIC_ROW_HEIGHT.saturating_mul(n));
     render_and_write(out, (WIDE_WIDTH, height), |root| {
-        draw_metric_samples(root, title, metrics)
+        draw_metric_samples(root, title, rows)
     })
 }
 
-fn draw_metric_samples(root: &Area<'_>, title: &str, metrics: &[(String, Vec<f64>)]) -> DrawResult {
+fn draw_metric_samples(root: &Area<'_>, title: &str, rows: &[MetricRow]) -> DrawResult {
     root.fill(&WHITE)?;
     let body = root.titled(title, (FONT, 26))?;
-    if metrics.is_empty() {
+    if rows.is_empty() {
         body.draw(&Text::new(
             "no metrics",
             (40, 40),
@@ -38,30 +99,57 @@ fn draw_metric_samples(root: &Area<'_>, title: &str, metrics: &[(String, Vec<f64
         ))?;
         return Ok(());
     }
-    for (area, (name, samples)) in body.split_evenly((metrics.len(), 1)).iter().zip(metrics) {
-        draw_metric_row(area, name, samples)?;
+    for (area, row) in body.split_evenly((rows.len(), 1)).iter().zip(rows) {
+        draw_metric_row(area, row)?;
     }
     Ok(())
 }
 
-/// One metric: samples as dots at a deterministic vertical jitter, the mean as a red line.
-fn draw_metric_row(area: &Area<'_>, name: &str, samples: &[f64]) -> DrawResult {
-    let finite: Vec<f64> = samples.iter().copied().filter(|v| v.is_finite()).collect();
-    let skipped = samples.len() - finite.len();
-    let mean = (!finite.is_empty()).then(|| finite.iter().sum::<f64>() / finite.len() as f64);
-    let mut caption = match mean {
-        Some(m) => format!(
-            "{name}: mean {} (red line), {} sample{}",
-            fmt_sig(m),
-            finite.len(),
-            if finite.len() == 1 { "" } else { "s" }
-        ),
-        None => format!("{name}: no finite samples"),
-    };
+/// The caption of a row: its label, each mark with its value, the sample count.
+fn row_caption(row: &MetricRow, finite: usize, skipped: usize) -> String {
+    let mut parts: Vec<String> = row
+        .marks
+        .iter()
+        .map(|m| {
+            let note = if m.note.is_empty() {
+                String::new()
+            } else {
+                format!(", {}", m.note)
+            };
+            format!(
+                "{} = {} ({}){note}",
+                m.name,
+                fmt_sig(m.value),
+                m.kind.line()
+            )
+        })
+        .collect();
+    parts.push(match finite {
+        0 => "no finite samples".to_owned(),
+        1 => "1 sample".to_owned(),
+        n => format!("{n} samples"),
+    });
+    let mut caption = format!("{}: {}", row.label, parts.join("; "));
     if skipped > 0 {
         caption.push_str(&format!(", {skipped} non-finite left out"));
     }
-    let (lo, hi) = axis_range(finite.iter().copied(), 0.05);
+    caption
+}
+
+/// One metric: samples as dots at a deterministic vertical jitter, marks as vertical lines.
+fn draw_metric_row(area: &Area<'_>, row: &MetricRow) -> DrawResult {
+    let finite: Vec<f64> = row
+        .samples
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .collect();
+    let caption = row_caption(row, finite.len(), row.samples.len() - finite.len());
+    let marks: Vec<&Mark> = row.marks.iter().filter(|m| m.value.is_finite()).collect();
+    let (lo, hi) = axis_range(
+        finite.iter().copied().chain(marks.iter().map(|m| m.value)),
+        0.05,
+    );
     let mut chart = ChartBuilder::on(area)
         .caption(caption, (FONT, 16))
         .margin(8)
@@ -86,11 +174,16 @@ fn draw_metric_row(area: &Area<'_>, name: &str, samples: &[f64]) -> DrawResult {
         let y = 0.1 + 0.8 * (0.5 + k as f64 * golden).fract();
         Circle::new((v, y), 4, RUN_COLORS[0].mix(0.65).filled())
     }))?;
-    if let Some(m) = mean {
-        chart.draw_series(std::iter::once(PathElement::new(
-            [(m, 0.02), (m, 0.98)],
-            RED.stroke_width(2),
-        )))?;
+    for m in marks {
+        let ends = [(m.value, 0.02), (m.value, 0.98)];
+        match m.kind {
+            MarkKind::Statistic => {
+                chart.draw_series(std::iter::once(PathElement::new(ends, RED.stroke_width(2))))?;
+            }
+            MarkKind::Limit => {
+                chart.draw_series(DashedLineSeries::new(ends, 6, 4, BLACK.stroke_width(2)))?;
+            }
+        }
     }
     Ok(())
 }
@@ -102,24 +195,24 @@ mod tests {
 
     #[test]
     fn metric_samples_show_every_finite_sample_and_the_mean() {
-        let metrics = vec![
-            ("ROP [m/h]".to_owned(), vec![10.0, 12.0, 11.0, 13.0, 14.0]),
-            ("stick-slip severity [-]".to_owned(), vec![0.25]),
-            ("impacts [1/s]".to_owned(), vec![1.0, f64::NAN, 3.0]),
-            ("torque [kN m]".to_owned(), vec![f64::INFINITY]),
+        let rows = vec![
+            MetricRow::with_mean("ROP [m/h]".to_owned(), vec![10.0, 12.0, 11.0, 13.0, 14.0]),
+            MetricRow::with_mean("stick-slip severity".to_owned(), vec![0.25]),
+            MetricRow::with_mean("impacts [1/s]".to_owned(), vec![1.0, f64::NAN, 3.0]),
+            MetricRow::with_mean("torque [kN m]".to_owned(), vec![f64::INFINITY]),
         ];
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("metrics.svg");
-        plot_metric_samples("Metrics at the optimum", &metrics, &out).unwrap();
+        plot_metric_samples("Metrics at the optimum", &rows, &out).unwrap();
         let svg = read(&out);
         assert_svg(&svg);
         assert_contains(
             &svg,
             &[
                 "Metrics at the optimum",
-                "ROP [m/h]: mean 12.00 (red line), 5 samples",
-                "stick-slip severity [-]: mean 0.2500 (red line), 1 sample",
-                "impacts [1/s]: mean 2.000 (red line), 2 samples, 1 non-finite left out",
+                "ROP [m/h]: mean = 12.00 (red); 5 samples",
+                "stick-slip severity: mean = 0.2500 (red); 1 sample",
+                "impacts [1/s]: mean = 2.000 (red); 2 samples, 1 non-finite left out",
                 "torque [kN m]: no finite samples, 1 non-finite left out",
             ],
         );
@@ -134,10 +227,56 @@ mod tests {
     }
 
     #[test]
+    fn the_objective_statistic_and_limits_are_drawn_not_the_mean() {
+        // Ten samples with a heavy tail: mean 1.45, CVaR 0.9 = 6 (the worst one), limit 4.
+        let samples = vec![1.0, 1.0, 0.5, 1.0, 0.5, 0.5, 1.0, 0.5, 2.5, 6.0];
+        let row = MetricRow {
+            label: "stick-slip severity".to_owned(),
+            samples,
+            marks: vec![
+                Mark {
+                    name: "CVaR 90 % (objective)".to_owned(),
+                    value: 6.0,
+                    kind: MarkKind::Statistic,
+                    note: String::new(),
+                },
+                Mark {
+                    name: "chance limit".to_owned(),
+                    value: 4.0,
+                    kind: MarkKind::Limit,
+                    note: "P(above) = 10 %, at most 5 % allowed: violated".to_owned(),
+                },
+                Mark {
+                    name: "not finite".to_owned(),
+                    value: f64::NAN,
+                    kind: MarkKind::Limit,
+                    note: String::new(),
+                },
+            ],
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("metrics.svg");
+        plot_metric_samples("At the optimum", &[row], &out).unwrap();
+        let svg = read(&out);
+        assert_contains(
+            &svg,
+            &[
+                "stick-slip severity: CVaR 90 % (objective) = 6.000 (red); chance limit = 4.000 \
+               (dashed), P(above) = 10 %, at most 5 % allowed: violated; not finite = NaN \
+               (dashed); 10 samples",
+            ],
+        );
+        assert!(!svg.contains("mean"));
+        // One solid red line at the CVaR, the dashed limit as many short black segments.
+        assert_eq!(count_with(&svg, "polyline", "stroke=\"#FF0000\""), 1);
+        assert!(count_with(&svg, "polyline", "stroke=\"#000000\" stroke-width=\"2\"") > 5);
+    }
+
+    #[test]
     fn plots_are_written_whole_and_replace_the_old_file() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("new/dir/metrics.svg");
-        let metrics = vec![("m".to_owned(), vec![1.0, 2.0])];
+        let metrics = vec![MetricRow::with_mean("m".to_owned(), vec![1.0, 2.0])];
         plot_metric_samples("First", &metrics, &out).unwrap();
         plot_metric_samples("Second", &metrics, &out).unwrap();
         let svg = read(&out);

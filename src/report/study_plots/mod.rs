@@ -25,9 +25,9 @@ mod style;
 mod test_support;
 
 pub use heatmap::plot_heatmap;
-pub use metric_samples::plot_metric_samples;
+pub use metric_samples::{Mark, MarkKind, MetricRow, plot_metric_samples};
 pub use optimizer_path::plot_optimizer_path;
-pub use overlay::plot_bit_speed_overlay;
+pub use overlay::{OverlayRun, plot_bit_speed_overlay};
 
 /// The box of operating points and the linear constraints on them, in plot units.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,6 +51,17 @@ pub struct ConstraintLine {
     pub v0_coef: f64,
     /// Right-hand side.
     pub upper: f64,
+}
+
+/// A point marked with a star (Ω in rpm, V0 in m/h), and what it is, e.g. "best map node".
+#[derive(Debug, Clone, PartialEq)]
+pub struct StarredPoint {
+    /// Rotational speed Ω, rpm.
+    pub omega_rpm: f64,
+    /// Rate of penetration V0, m/h.
+    pub v0_m_per_h: f64,
+    /// What the point is, for the legend and the caption.
+    pub label: String,
 }
 
 /// One operating point the optimizer evaluated.

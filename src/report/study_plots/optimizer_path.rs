@@ -11,7 +11,7 @@ use plotters::style::text_anchor::{HPos, VPos};
 use crate::report::plots::{PlotError, axis_range, tick_label};
 
 use super::geometry::{clip_box_to_halfplane, clip_line_to_box, finite_bounds, is_finite_point};
-use super::side::{LegendEntry, draw_colorbar, draw_legend, optimum_caption, split_body};
+use super::side::{LegendEntry, draw_colorbar, draw_legend, split_body, star_caption};
 use super::style::{
     Area, DrawResult, FONT, HEIGHT, INFEASIBLE_FILL, NO_VALUE, OMEGA_LABEL, PATH_COLOR, V0_LABEL,
     WIDTH, render_and_write, scale_color, star_marker, text_style, value_range,
@@ -85,7 +85,7 @@ fn draw_optimizer_path(
     let (y_lo, y_hi) = axis_range(all().map(|p| p.1), 0.04);
 
     let mut chart = ChartBuilder::on(&plot_area)
-        .caption(optimum_caption(optimum), (FONT, 17))
+        .caption(star_caption("optimum", optimum), (FONT, 17))
         .margin(10)
         .margin_right(20)
         .x_label_area_size(50)
@@ -198,7 +198,7 @@ fn draw_optimizer_path(
         entries.push((LegendEntry::Path, "optimizer path (iterates)".into()));
     }
     if optimum.is_some() {
-        entries.push((LegendEntry::Optimum, "optimum".into()));
+        entries.push((LegendEntry::Star, "optimum".into()));
     }
     if any_infeasible {
         entries.push((LegendEntry::Infeasible, "infeasible (constraints)".into()));
@@ -433,7 +433,7 @@ mod tests {
         let out = dir.path().join("one.svg");
         plot_optimizer_path(&r, &[p], &[(100.0, 12.0)], Some((100.0, 12.0)), "One", &out).unwrap();
         let svg = read(&out);
-        assert_contains(&svg, &["One", "max 3.000", "min 3.000"]);
+        assert_contains(&svg, &["One", "constant: 3.000"]);
         // A zero-width box has no area to shade; the constraint has no line to draw.
         assert!(!svg.contains("impossible"));
         assert_eq!(svg.matches("<circle").count(), 2 + 1 + 3);

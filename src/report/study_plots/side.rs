@@ -1,5 +1,6 @@
-//! The side column of the operating-point plots: a colour bar with its range, a hand-drawn
-//! legend, the split of the figure into plot and side column, and the optimum's caption.
+//! The side column of the operating-point plots: a colour bar with its range (or the value of a
+//! constant field), a hand-drawn legend, the split of the figure into plot and side column, and
+//! the caption of the starred point.
 
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
@@ -9,7 +10,7 @@ use crate::report::plots::{axis_range, tick_label};
 use super::geometry::is_finite_point;
 use super::style::{
     Area, COLORBAR_STEPS, DrawResult, FONT, INFEASIBLE_FILL, NO_VALUE, NO_VALUE_CELL, PATH_COLOR,
-    SIDE_WIDTH, fmt_sig, star_marker, text_style, viridis,
+    SIDE_WIDTH, fmt_sig, is_constant, star_marker, text_style, viridis,
 };
 
 /// One row of a hand-drawn legend.
@@ -17,7 +18,8 @@ pub(super) enum LegendEntry {
     ScoredPoint,
     NoValueCross,
     Path,
-    Optimum,
+    /// The starred point (the optimum, the best map node).
+    Star,
     Infeasible,
     NoValueCell,
 }
@@ -42,7 +44,7 @@ pub(super) fn draw_legend(area: &Area<'_>, entries: &[(LegendEntry, String)]) ->
                 ))?;
                 area.draw(&Circle::new((x, y), 3, PATH_COLOR.filled()))?;
             }
-            LegendEntry::Optimum => {
+            LegendEntry::Star => {
                 area.draw(&star_marker((x, y), 10.0))?;
             }
             LegendEntry::Infeasible | LegendEntry::NoValueCell => {
@@ -76,8 +78,12 @@ pub(super) fn draw_legend(area: &Area<'_>, entries: &[(LegendEntry, String)]) ->
 }
 
 /// Draws a vertical colour bar for the data range [`min`, `max`] labelled `label`, with tick
-/// labels and the exact minimum and maximum. A constant is shown on a bar padded around it.
+/// labels and the exact minimum and maximum. A constant field gets no bar (a padded one would
+/// show a range the data do not have) but one swatch with its value, said to be constant.
 pub(super) fn draw_colorbar(area: &Area<'_>, label: &str, (min, max): (f64, f64)) -> DrawResult {
+    if is_constant((min, max)) {
+        return draw_constant(area, label, min);
+    }
     let (lo, hi) = axis_range([min, max], 0.0);
     let (w, _) = area.dim_in_pixel();
     let bar = 28;
@@ -126,6 +132,31 @@ pub(super) fn draw_colorbar(area: &Area<'_>, label: &str, (min, max): (f64, f64)
     Ok(())
 }
 
+/// The colour of a constant field (the middle of the scale, as `scale_color` gives it) and its
+/// value.
+fn draw_constant(area: &Area<'_>, label: &str, value: f64) -> DrawResult {
+    let (x, y) = (20, 40);
+    area.draw(&Text::new(
+        label.to_owned(),
+        (x, y),
+        text_style(15, BLACK, HPos::Left, VPos::Center),
+    ))?;
+    let swatch = [(x, y + 20), (x + 28, y + 48)];
+    area.draw(&Rectangle::new(swatch, viridis(0.5).filled()))?;
+    area.draw(&Rectangle::new(swatch, BLACK.stroke_width(1)))?;
+    area.draw(&Text::new(
+        format!("constant: {}", fmt_sig(value)),
+        (x + 38, y + 34),
+        text_style(14, BLACK, HPos::Left, VPos::Center),
+    ))?;
+    area.draw(&Text::new(
+        "the same at every point",
+        (x, y + 68),
+        text_style(13, BLACK, HPos::Left, VPos::Center),
+    ))?;
+    Ok(())
+}
+
 /// Splits the figure body into the plot and the side column (colour bar above the legend).
 pub(super) fn split_body<'a>(body: &Area<'a>) -> (Area<'a>, Area<'a>, Area<'a>) {
     let (w, h) = body.dim_in_pixel();
@@ -134,13 +165,13 @@ pub(super) fn split_body<'a>(body: &Area<'a>) -> (Area<'a>, Area<'a>, Area<'a>) 
     (plot, bar, legend)
 }
 
-/// Caption text for an optimum, or an empty string.
-pub(super) fn optimum_caption(optimum: Option<(f64, f64)>) -> String {
-    optimum
+/// Caption text "`what`: Ω = … rpm, V0 = … m/h" for a starred point, or an empty string.
+pub(super) fn star_caption(what: &str, point: Option<(f64, f64)>) -> String {
+    point
         .filter(is_finite_point)
         .map(|(o, v)| {
             format!(
-                "optimum: \u{3a9} = {} rpm, V0 = {} m/h",
+                "{what}: \u{3a9} = {} rpm, V0 = {} m/h",
                 fmt_sig(o),
                 fmt_sig(v)
             )

@@ -12,6 +12,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::report::atomic::write_atomic;
 use crate::report::plots::PlotError;
+pub(super) use crate::report::units::fmt_sig;
 
 /// Image width of the operating-point plots, px.
 pub(super) const WIDTH: u32 = 1100;
@@ -88,14 +89,20 @@ pub(super) fn viridis(s: f64) -> RGBColor {
     ViridisRGB.get_color(s)
 }
 
-/// The colour of `value` on a scale over the data range [lo, hi]; a constant (lo = hi) maps to
-/// the middle of the scale.
+/// The colour of `value` on a scale over the data range [lo, hi]; a constant (lo = hi up to
+/// round-off, see [`is_constant`]) maps to the middle of the scale.
 pub(super) fn scale_color(value: f64, (lo, hi): (f64, f64)) -> RGBColor {
-    if hi > lo {
+    if !is_constant((lo, hi)) {
         viridis((value - lo) / (hi - lo))
     } else {
         viridis(0.5)
     }
+}
+
+/// Whether [`min`, `max`] is a single value up to round-off (the test of `axis_range`).
+pub(super) fn is_constant((min, max): (f64, f64)) -> bool {
+    let span = max - min;
+    span.is_nan() || span <= 1e-12 * min.abs().max(max.abs())
 }
 
 /// The smallest and largest of the finite `values`, or None without any.
@@ -107,23 +114,6 @@ pub(super) fn value_range(values: impl IntoIterator<Item = f64>) -> Option<(f64,
             None => Some((v, v)),
             Some((lo, hi)) => Some((f64::min(lo, v), f64::max(hi, v))),
         })
-}
-
-/// `v` with about 4 significant digits, exponent form when very large or small.
-pub(super) fn fmt_sig(v: f64) -> String {
-    if v == 0.0 {
-        return "0".to_owned();
-    }
-    if !v.is_finite() {
-        return format!("{v}");
-    }
-    let decade = v.abs().log10().floor() as i32;
-    if !(-3..5).contains(&decade) {
-        format!("{v:.3e}")
-    } else {
-        let decimals = (3 - decade).clamp(0, 6) as usize;
-        format!("{v:.decimals$}")
-    }
 }
 
 /// Vertices of a five-pointed star of outer radius `r` px centred on (0, 0), point up.
@@ -177,21 +167,13 @@ mod tests {
         assert_eq!(scale_color(5.0, (0.0, 10.0)), viridis(0.5));
         assert_eq!(scale_color(2.0, (0.0, 10.0)), viridis(0.2));
         assert_eq!(scale_color(3.0, (3.0, 3.0)), viridis(0.5));
+        assert_eq!(scale_color(1.0, (1.0, 1.0 + 1e-15)), viridis(0.5));
+        assert!(is_constant((0.0, 0.0)) && is_constant((5.0, 5.0 + 1e-14)));
+        assert!(!is_constant((0.0, 1e-300)) && !is_constant((1.0, 1.0 + 1e-9)));
         assert_eq!(
             value_range([2.0, f64::NAN, -1.0, f64::INFINITY]),
             Some((-1.0, 2.0))
         );
         assert_eq!(value_range([f64::NAN]), None);
-    }
-
-    #[test]
-    fn numbers_have_four_significant_digits() {
-        assert_eq!(fmt_sig(0.0), "0");
-        assert_eq!(fmt_sig(123.456), "123.5");
-        assert_eq!(fmt_sig(-0.012345), "-0.01235");
-        assert_eq!(fmt_sig(2.0), "2.000");
-        assert_eq!(fmt_sig(1.5e-5), "1.500e-5");
-        assert_eq!(fmt_sig(2.5e6), "2.500e6");
-        assert_eq!(fmt_sig(f64::NAN), "NaN");
     }
 }
