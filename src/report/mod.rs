@@ -8,6 +8,7 @@
 //! radial displacements in mm).
 
 mod atomic;
+mod axes;
 mod csv;
 mod plots;
 mod study_plots;
@@ -16,10 +17,10 @@ mod testdata;
 mod units;
 
 pub use atomic::{write_atomic, write_json_atomic};
+pub use axes::{PLOT_BUCKETS, decimate_min_max};
 pub use csv::{probe_column_name, timeseries_csv, write_timeseries_csv};
 pub use plots::{
-    PLOT_BUCKETS, Panel, PlotError, decimate_min_max, plot_bit_axial, plot_bit_rotation,
-    plot_panels, plot_probe_radial,
+    Panel, PlotError, plot_bit_axial, plot_bit_rotation, plot_panels, plot_probe_radial,
 };
 pub use study_plots::{
     ConstraintLine, EvaluatedPoint, Mark, MarkKind, MetricRow, OverlayRun, Region, StarredPoint,

@@ -1,7 +1,7 @@
 //! Geometry of the operating-point plots: heat-map cells around grid nodes, and the feasible
 //! region's box clipped by linear constraints (a·Ω + b·V0 ≤ u), all in plot units.
 
-use crate::report::plots::axis_range;
+use crate::report::axes::axis_range;
 
 use super::style::Point;
 

@@ -5,7 +5,8 @@ use std::path::Path;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::report::plots::{PlotError, axis_range, tick_label};
+use crate::report::axes::{axis_range, tick_label};
+use crate::report::plots::PlotError;
 
 use super::StarredPoint;
 use super::geometry::{cell_edges, is_finite_point};

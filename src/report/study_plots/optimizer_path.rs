@@ -8,7 +8,8 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::report::plots::{PlotError, axis_range, tick_label};
+use crate::report::axes::{axis_range, tick_label};
+use crate::report::plots::PlotError;
 
 use super::geometry::{clip_box_to_halfplane, clip_line_to_box, finite_bounds, is_finite_point};
 use super::side::{LegendEntry, draw_colorbar, draw_legend, split_body, star_caption};

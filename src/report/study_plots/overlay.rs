@@ -4,7 +4,8 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::report::plots::{PLOT_BUCKETS, PlotError, axis_range, decimate_min_max, tick_label};
+use crate::report::axes::{PLOT_BUCKETS, axis_range, decimate_min_max, tick_label};
+use crate::report::plots::PlotError;
 use crate::report::units::{RPM_PER_RAD_S, short};
 use crate::sim::TimeSeries;
 

@@ -5,7 +5,7 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::report::plots::{axis_range, tick_label};
+use crate::report::axes::{axis_range, tick_label};
 
 use super::geometry::is_finite_point;
 use super::style::{
