@@ -1,11 +1,11 @@
 //! `drillopt map PROBLEM [--grid 15x15]`: the objective and every risk metric over a grid of the
-//! feasible box, as heat maps with the optimum marked, and `map.json`.
+//! feasible box, as heat maps with the best node marked, and `map.json`; a table of every node.
 
 use super::study;
 use crate::problem::Problem;
 use crate::report;
 use crate::report::{EvaluationJson, MapJson, PointJson, StudyHeader, WorkJson};
-use crate::solve;
+use crate::solve::{self, MapOutcome};
 use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
@@ -80,16 +80,53 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     report::write_json_atomic(&out.join("map.json"), &json)?;
     super::study_plots::map_plots(&problem, &out, &m)?;
     if !args.quiet {
-        let evaluated: Vec<_> = m.points.iter().flatten().cloned().collect();
-        study::print_table(&evaluated);
+        for line in table(&m) {
+            println!("{line}");
+        }
         study::print_best(m.best.as_ref(), "best grid point", "no feasible grid point");
         println!("  results in {}", out.display());
     }
     Ok(())
 }
 
+/// The terminal table of a map: a header and one line per grid node (V0 rows, Ω columns, as in
+/// `map.json`), a node outside the linear constraints included and said to be so.
+fn table(m: &MapOutcome) -> Vec<String> {
+    let n_omega = m.omega.len();
+    let mut lines = vec![study::TABLE_HEADER.to_owned()];
+    lines.extend(m.points.iter().enumerate().map(|(k, p)| match p {
+        Some(p) => study::table_row(p),
+        None => format!(
+            "{:7.1} {:8.2}   outside the linear constraints: not simulated",
+            m.omega[k % n_omega] * report::RPM_PER_RAD_S,
+            m.v0[k / n_omega] * report::M_PER_H_PER_M_PER_S
+        ),
+    }));
+    lines
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn the_table_lists_every_node_of_the_grid() {
+        let problem = crate::cli::study_plots::tests::problem();
+        let m = crate::cli::study_plots::tests::map_4x4(&problem.study);
+        assert_eq!(m.points.iter().filter(|p| p.is_none()).count(), 6);
+        let lines = super::table(&m);
+        assert_eq!(lines.len(), 1 + 16, "{lines:#?}");
+        let outside: Vec<&String> = lines.iter().filter(|l| l.contains("outside")).collect();
+        assert_eq!(outside.len(), 6);
+        // The last node, (120 rpm, 20 m/h), is one of them; the first is simulated.
+        assert!(
+            lines[16].starts_with("  120.0    20.00   outside"),
+            "{}",
+            lines[16]
+        );
+        assert!(lines[1].starts_with("   40.0     2.00 "), "{}", lines[1]);
+        // Every node of the fixture fails its chance constraint.
+        assert!(lines[1].ends_with("no"), "{}", lines[1]);
+    }
+
     #[test]
     fn grid_sizes_parse_and_bad_ones_are_refused() {
         assert_eq!(super::parse_grid("15x9").unwrap(), [15, 9]);

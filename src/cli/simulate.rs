@@ -160,11 +160,11 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     if !output.series.is_empty() {
         let s = &output.series;
         report::write_timeseries_csv(&out.join("timeseries.csv"), s)?;
-        report::plot_bit_axial(s, &out.join("bit_axial.svg"))?;
-        report::plot_bit_rotation(s, &out.join("bit_rotation.svg"))?;
+        report::plot_bit_axial(s, &op, &out.join("bit_axial.svg"))?;
+        report::plot_bit_rotation(s, &op, &out.join("bit_rotation.svg"))?;
         for (k, x) in s.probe_positions.iter().enumerate() {
             let name = format!("radial_x{}m.svg", x);
-            report::plot_probe_radial(s, k, problem.model.gap(), &out.join(name))?;
+            report::plot_probe_radial(s, k, problem.model.gap(), &op, &out.join(name))?;
         }
     }
     print_summary(&summary, &out);

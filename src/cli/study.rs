@@ -75,7 +75,7 @@ pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str) {
 }
 
 /// One line of a terminal table for a point.
-fn table_row(p: &PointEvaluation) -> String {
+pub(super) fn table_row(p: &PointEvaluation) -> String {
     let score = p
         .objective
         .map_or_else(|| "   failed".to_string(), |s| format!("{s:9.3}"));
@@ -94,5 +94,5 @@ fn table_row(p: &PointEvaluation) -> String {
     )
 }
 
-const TABLE_HEADER: &str =
+pub(super) const TABLE_HEADER: &str =
     "    rpm      m/h     score  ROP m/h    SSI   stick  impacts/s  WOB kN feasible";

@@ -4,9 +4,11 @@
 //!
 //! Every file is written whole or not at all (temporary file, fsync, rename), so an interrupted
 //! run never leaves a truncated CSV or SVG behind. Units are SI in files (m, s, rad, N, J); plots
-//! show radial displacements in mm.
+//! show the units a driller reads on the terminal ([`MetricDisplay`]: rpm, m/h, kN, kN·m, MPa;
+//! radial displacements in mm).
 
 mod atomic;
+mod axes;
 mod csv;
 mod plots;
 mod study_json;
@@ -14,19 +16,24 @@ mod study_plots;
 mod summary;
 #[cfg(test)]
 mod testdata;
+mod units;
 
 pub use atomic::{write_atomic, write_json_atomic};
+pub use axes::{PLOT_BUCKETS, decimate_min_max};
 pub use csv::{probe_column_name, timeseries_csv, write_timeseries_csv};
 pub use plots::{
-    PLOT_BUCKETS, Panel, PlotError, decimate_min_max, plot_bit_axial, plot_bit_rotation,
-    plot_panels, plot_probe_radial,
+    Panel, PlotError, plot_bit_axial, plot_bit_rotation, plot_panels, plot_probe_radial,
 };
 pub use study_json::{
     CompareJson, ConstraintsJson, EvaluationJson, LinearJson, MapJson, ObjectiveJson, PointJson,
     ProblemRecord, SolutionJson, StudyHeader, WorkJson,
 };
 pub use study_plots::{
-    ConstraintLine, EvaluatedPoint, Region, plot_bit_speed_overlay, plot_heatmap,
-    plot_metric_samples, plot_optimizer_path,
+    ConstraintLine, EvaluatedPoint, Mark, MarkKind, MetricRow, OverlayRun, Region, StarredPoint,
+    plot_bit_speed_overlay, plot_heatmap, plot_metric_samples, plot_optimizer_path,
 };
 pub use summary::{OperatingPointJson, RunStatus, SummaryJson};
+pub use units::{
+    M_PER_H_PER_M_PER_S, MetricDisplay, REV_PER_RAD, RPM_PER_RAD_S, fmt_sig, operating_point_text,
+    short,
+};

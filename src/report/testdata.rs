@@ -4,12 +4,19 @@
 
 use std::f64::consts::TAU;
 
+use crate::model::OperatingPoint;
 use crate::sim::TimeSeries;
 
 /// Wall gap used by the tests, m.
 pub const GAP: f64 = 0.005;
 /// Position of the single probe, m.
 pub const PROBE_X: f64 = 20.0;
+
+/// The operating point of [`synthetic_series`]: Ω = 10 rad/s (95.49 rpm), V0 = 0.01 m/s (36 m/h).
+pub const OP: OperatingPoint = OperatingPoint {
+    omega: 10.0,
+    v0: 0.01,
+};
 
 /// `n` samples over about `n` × 10⁻⁴ s.
 pub fn synthetic_series(n: usize) -> TimeSeries {
@@ -18,7 +25,7 @@ pub fn synthetic_series(n: usize) -> TimeSeries {
         probe_radial: vec![Vec::with_capacity(n)],
         ..TimeSeries::default()
     };
-    let (v0, omega) = (0.01, 10.0);
+    let (v0, omega) = (OP.v0, OP.omega);
     let mut t = 0.0;
     for i in 0..n {
         let bounce = if i % 9_973 == 500 { 0.05 } else { 0.0 };

@@ -1,0 +1,180 @@
+//! The side column of the operating-point plots: a colour bar with its range (or the value of a
+//! constant field), a hand-drawn legend, the split of the figure into plot and side column, and
+//! the caption of the starred point.
+
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, VPos};
+
+use crate::report::axes::{axis_range, tick_label};
+
+use super::geometry::is_finite_point;
+use super::style::{
+    Area, COLORBAR_STEPS, DrawResult, FONT, INFEASIBLE_FILL, NO_VALUE, NO_VALUE_CELL, PATH_COLOR,
+    SIDE_WIDTH, fmt_sig, is_constant, star_marker, text_style, viridis,
+};
+
+/// One row of a hand-drawn legend.
+pub(super) enum LegendEntry {
+    ScoredPoint,
+    NoValueCross,
+    Path,
+    /// The starred point (the optimum, the best map node).
+    Star,
+    Infeasible,
+    NoValueCell,
+}
+
+/// Draws `entries` with their `labels` top-down in `area` (pixel coordinates of the area).
+pub(super) fn draw_legend(area: &Area<'_>, entries: &[(LegendEntry, String)]) -> DrawResult {
+    let x = 25;
+    for (k, (entry, label)) in entries.iter().enumerate() {
+        let y = 20 + 28 * k as i32;
+        match entry {
+            LegendEntry::ScoredPoint => {
+                area.draw(&Circle::new((x, y), 5, viridis(0.6).filled()))?;
+                area.draw(&Circle::new((x, y), 5, BLACK.stroke_width(1)))?;
+            }
+            LegendEntry::NoValueCross => {
+                area.draw(&Cross::new((x, y), 5, NO_VALUE.stroke_width(2)))?;
+            }
+            LegendEntry::Path => {
+                area.draw(&PathElement::new(
+                    [(x - 12, y), (x + 12, y)],
+                    PATH_COLOR.stroke_width(2),
+                ))?;
+                area.draw(&Circle::new((x, y), 3, PATH_COLOR.filled()))?;
+            }
+            LegendEntry::Star => {
+                area.draw(&star_marker((x, y), 10.0))?;
+            }
+            LegendEntry::Infeasible | LegendEntry::NoValueCell => {
+                let fill = match entry {
+                    LegendEntry::Infeasible => INFEASIBLE_FILL,
+                    _ => NO_VALUE_CELL,
+                };
+                area.draw(&Rectangle::new(
+                    [(x - 8, y - 8), (x + 8, y + 8)],
+                    fill.filled(),
+                ))?;
+                area.draw(&Rectangle::new(
+                    [(x - 8, y - 8), (x + 8, y + 8)],
+                    BLACK.mix(0.5).stroke_width(1),
+                ))?;
+                if let LegendEntry::NoValueCell = entry {
+                    area.draw(&PathElement::new(
+                        [(x - 8, y + 8), (x + 8, y - 8)],
+                        BLACK.mix(0.35).stroke_width(1),
+                    ))?;
+                }
+            }
+        }
+        area.draw(&Text::new(
+            label.clone(),
+            (x + 20, y),
+            text_style(14, BLACK, HPos::Left, VPos::Center),
+        ))?;
+    }
+    Ok(())
+}
+
+/// Draws a vertical colour bar for the data range [`min`, `max`] labelled `label`, with tick
+/// labels and the exact minimum and maximum. A constant field gets no bar (a padded one would
+/// show a range the data do not have) but one swatch with its value, said to be constant.
+pub(super) fn draw_colorbar(area: &Area<'_>, label: &str, (min, max): (f64, f64)) -> DrawResult {
+    if is_constant((min, max)) {
+        return draw_constant(area, label, min);
+    }
+    let (lo, hi) = axis_range([min, max], 0.0);
+    let (w, _) = area.dim_in_pixel();
+    let bar = 28;
+    let labels = 95;
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(40)
+        .margin_bottom(40)
+        .margin_left(20)
+        .margin_right(w.saturating_sub(20 + bar + labels))
+        .x_label_area_size(0)
+        .right_y_label_area_size(labels)
+        .build_cartesian_2d(0.0..1.0, lo..hi)?;
+    let y_fmt = |v: &f64| tick_label(*v, lo, hi);
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_labels(8)
+        .y_desc(label)
+        .y_label_formatter(&y_fmt)
+        .label_style((FONT, 13))
+        .axis_desc_style((FONT, 15))
+        .draw()?;
+    let step = (hi - lo) / COLORBAR_STEPS as f64;
+    chart.draw_series((0..COLORBAR_STEPS).map(|k| {
+        let y0 = lo + step * k as f64;
+        let color = viridis((k as f64 + 0.5) / COLORBAR_STEPS as f64);
+        Rectangle::new([(0.0, y0), (1.0, y0 + step)], color.filled())
+    }))?;
+    chart.draw_series(std::iter::once(Rectangle::new(
+        [(0.0, lo), (1.0, hi)],
+        BLACK.stroke_width(1),
+    )))?;
+    let end_label = |at: f64, value: f64, prefix: &str, v: VPos, dy: i32| {
+        EmptyElement::at((0.0, at))
+            + Text::new(
+                format!("{prefix} {}", fmt_sig(value)),
+                (0, dy),
+                text_style(13, BLACK, HPos::Left, v),
+            )
+    };
+    chart.draw_series([
+        end_label(hi, max, "max", VPos::Bottom, -6),
+        end_label(lo, min, "min", VPos::Top, 6),
+    ])?;
+    Ok(())
+}
+
+/// The colour of a constant field (the middle of the scale, as `scale_color` gives it) and its
+/// value.
+fn draw_constant(area: &Area<'_>, label: &str, value: f64) -> DrawResult {
+    let (x, y) = (20, 40);
+    area.draw(&Text::new(
+        label.to_owned(),
+        (x, y),
+        text_style(15, BLACK, HPos::Left, VPos::Center),
+    ))?;
+    let swatch = [(x, y + 20), (x + 28, y + 48)];
+    area.draw(&Rectangle::new(swatch, viridis(0.5).filled()))?;
+    area.draw(&Rectangle::new(swatch, BLACK.stroke_width(1)))?;
+    area.draw(&Text::new(
+        format!("constant: {}", fmt_sig(value)),
+        (x + 38, y + 34),
+        text_style(14, BLACK, HPos::Left, VPos::Center),
+    ))?;
+    area.draw(&Text::new(
+        "the same at every point",
+        (x, y + 68),
+        text_style(13, BLACK, HPos::Left, VPos::Center),
+    ))?;
+    Ok(())
+}
+
+/// Splits the figure body into the plot and the side column (colour bar above the legend).
+pub(super) fn split_body<'a>(body: &Area<'a>) -> (Area<'a>, Area<'a>, Area<'a>) {
+    let (w, h) = body.dim_in_pixel();
+    let (plot, side) = body.split_horizontally(w.saturating_sub(SIDE_WIDTH));
+    let (bar, legend) = side.split_vertically(h * 3 / 5);
+    (plot, bar, legend)
+}
+
+/// Caption text "`what`: Ω = … rpm, V0 = … m/h" for a starred point, or an empty string.
+pub(super) fn star_caption(what: &str, point: Option<(f64, f64)>) -> String {
+    point
+        .filter(is_finite_point)
+        .map(|(o, v)| {
+            format!(
+                "{what}: \u{3a9} = {} rpm, V0 = {} m/h",
+                fmt_sig(o),
+                fmt_sig(v)
+            )
+        })
+        .unwrap_or_default()
+}

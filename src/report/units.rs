@@ -1,0 +1,173 @@
+//! The units a driller reads, for plots: the terminal's units (rpm, m/h, kN, kN·m, MPa, %)
+//! instead of the SI of the result files (rad/s, m/s, N, N·m, Pa, fractions), and a human name
+//! for every decision metric key of `summary.json` (`mean_wob_n` → "mean WOB [kN]").
+
+use std::f64::consts::TAU;
+
+use crate::model::OperatingPoint;
+
+pub use crate::units::{M_PER_H_PER_M_PER_S, RPM_PER_RAD_S};
+/// rad → revolutions.
+pub const REV_PER_RAD: f64 = 1.0 / TAU;
+
+/// How a metric is shown: its name, its display unit and the factor from its SI value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MetricDisplay<'a> {
+    /// Human name, e.g. "mean WOB".
+    pub name: &'a str,
+    /// Display unit, e.g. "kN"; empty for a dimensionless number.
+    pub unit: &'static str,
+    /// Display value = `scale` × SI value (e.g. 1e-3 for N → kN).
+    pub scale: f64,
+}
+
+impl<'a> MetricDisplay<'a> {
+    /// The display of the metric `key` (a key of `summary.json`); an unknown key is shown as
+    /// itself, unscaled and without unit.
+    pub fn of(key: &'a str) -> Self {
+        let (name, unit, scale) = match key {
+            "mean_rop_m_per_h" => ("mean ROP", "m/h", 1.0),
+            "mean_rop_m_s" => ("mean ROP", "m/h", M_PER_H_PER_M_PER_S),
+            "stick_slip_severity" => ("stick-slip severity (10 ms average)", "", 1.0),
+            "stick_slip_severity_raw" => ("stick-slip severity (raw bit speed)", "", 1.0),
+            "stick_fraction" => ("time stuck", "%", 100.0),
+            "max_bit_speed_ratio" => ("peak bit speed / \u{3a9}", "", 1.0),
+            "bit_bounce_fraction" => ("time off bottom (bit-bounce)", "%", 100.0),
+            "axial_velocity_fluctuation" => ("axial velocity fluctuation / V0", "", 1.0),
+            "impacts_per_s" => ("wall impacts", "1/s", 1.0),
+            "peak_wall_force_n" => ("peak wall force", "kN", 1e-3),
+            "contact_impulse_ns" => ("wall contact impulse", "kN\u{b7}s", 1e-3),
+            "max_radial_over_gap" => ("peak radial displacement / gap", "", 1.0),
+            "mean_wob_n" => ("mean WOB", "kN", 1e-3),
+            "mean_tob_nm" => ("mean TOB", "kN\u{b7}m", 1e-3),
+            "mse_pa" => ("mechanical specific energy", "MPa", 1e-6),
+            "efficiency" => ("drilling efficiency", "", 1.0),
+            "axial_power_share" => ("axial power share", "", 1.0),
+            "energy_balance_residual" => ("energy balance residual", "", 1.0),
+            other => (other, "", 1.0),
+        };
+        MetricDisplay { name, unit, scale }
+    }
+
+    /// "name [unit]", or the name alone for a dimensionless metric.
+    pub fn label(&self) -> String {
+        if self.unit.is_empty() {
+            self.name.to_owned()
+        } else {
+            format!("{} [{}]", self.name, self.unit)
+        }
+    }
+
+    /// `si` in the display unit.
+    pub fn value(&self, si: f64) -> f64 {
+        self.scale * si
+    }
+}
+
+/// "Ω = 60 rpm, V0 = 5 m/h" for an operating point given in SI (rad/s, m/s), with at most two
+/// decimals and no trailing zeros.
+pub fn operating_point_text(op: &OperatingPoint) -> String {
+    format!(
+        "\u{3a9} = {} rpm, V0 = {} m/h",
+        short(op.omega * RPM_PER_RAD_S),
+        short(op.v0 * M_PER_H_PER_M_PER_S)
+    )
+}
+
+/// `v` with about 4 significant digits, exponent form when very large or small.
+pub fn fmt_sig(v: f64) -> String {
+    if v == 0.0 {
+        return "0".to_owned();
+    }
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    let decade = v.abs().log10().floor() as i32;
+    if !(-3..5).contains(&decade) {
+        format!("{v:.3e}")
+    } else {
+        let decimals = (3 - decade).clamp(0, 6) as usize;
+        format!("{v:.decimals$}")
+    }
+}
+
+/// `v` with at most two decimals, trailing zeros (and a bare point) removed; no "-0".
+pub fn short(v: f64) -> String {
+    let text = format!("{v:.2}");
+    let text = if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        &text
+    };
+    if text == "-0" { "0" } else { text }.to_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn metrics_are_shown_in_driller_units_with_human_names() {
+        let wob = MetricDisplay::of("mean_wob_n");
+        assert_eq!(wob.label(), "mean WOB [kN]");
+        assert!((wob.value(55_300.0) - 55.3).abs() < 1e-12);
+        assert_eq!(
+            MetricDisplay::of("mean_tob_nm").label(),
+            "mean TOB [kN\u{b7}m]"
+        );
+        let mse = MetricDisplay::of("mse_pa");
+        assert_eq!(mse.label(), "mechanical specific energy [MPa]");
+        assert!((mse.value(7.37e8) - 737.0).abs() < 1e-9);
+        assert_eq!(MetricDisplay::of("mean_rop_m_s").value(5.0 / 3600.0), 5.0);
+        assert_eq!(MetricDisplay::of("stick_fraction").value(0.35), 35.0);
+        assert_eq!(
+            MetricDisplay::of("stick_slip_severity").label(),
+            "stick-slip severity (10 ms average)"
+        );
+        // No code key survives as a label of a known metric.
+        for key in [
+            "mean_rop_m_per_h",
+            "stick_slip_severity",
+            "stick_fraction",
+            "max_bit_speed_ratio",
+            "impacts_per_s",
+            "peak_wall_force_n",
+            "mean_wob_n",
+            "mean_tob_nm",
+            "mse_pa",
+            "efficiency",
+            "axial_power_share",
+        ] {
+            assert!(!MetricDisplay::of(key).label().contains('_'), "{key}");
+        }
+        let unknown = MetricDisplay::of("new_metric");
+        assert_eq!(
+            (unknown.label().as_str(), unknown.scale),
+            ("new_metric", 1.0)
+        );
+    }
+
+    #[test]
+    fn numbers_have_four_significant_digits() {
+        assert_eq!(fmt_sig(0.0), "0");
+        assert_eq!(fmt_sig(123.456), "123.5");
+        assert_eq!(fmt_sig(-0.012345), "-0.01235");
+        assert_eq!(fmt_sig(2.0), "2.000");
+        assert_eq!(fmt_sig(1.5e-5), "1.500e-5");
+        assert_eq!(fmt_sig(2.5e6), "2.500e6");
+        assert_eq!(fmt_sig(f64::NAN), "NaN");
+    }
+
+    #[test]
+    fn operating_points_read_in_rpm_and_m_per_h() {
+        let op = OperatingPoint {
+            omega: TAU,
+            v0: 5.0 / 3600.0,
+        };
+        assert_eq!(operating_point_text(&op), "\u{3a9} = 60 rpm, V0 = 5 m/h");
+        assert_eq!(short(111.111), "111.11");
+        assert_eq!(short(2.5), "2.5");
+        assert_eq!(short(-0.001), "0");
+        assert_eq!(short(f64::INFINITY), "inf");
+    }
+}
