@@ -9,7 +9,9 @@
 use drillopt::cache::EvalCache;
 use drillopt::model::OperatingPoint;
 use drillopt::problem::Problem;
-use drillopt::study::{RobustEvaluator, SampleExecutor, SampleJob, SampleResult, Serial};
+use drillopt::study::{
+    OnResult, RobustEvaluator, RunJob, SampleExecutor, SampleJob, Serial, Simulated,
+};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -128,12 +130,15 @@ cov = 0.2
     // Any executor, in any order of work, gives the same results in the same order.
     struct Reversed;
     impl SampleExecutor for Reversed {
-        fn execute(
-            &self,
-            jobs: &[SampleJob],
-            run: &(dyn Fn(SampleJob) -> SampleResult + Sync),
-        ) -> Vec<SampleResult> {
-            let mut out: Vec<SampleResult> = jobs.iter().rev().map(|&j| run(j)).collect();
+        fn execute(&self, jobs: &[SampleJob], run: &RunJob, done: &OnResult) -> Vec<Simulated> {
+            let mut out: Vec<Simulated> = (0..jobs.len())
+                .rev()
+                .map(|i| {
+                    let r = run(jobs[i]);
+                    done(i, &r);
+                    r
+                })
+                .collect();
             out.reverse();
             out
         }

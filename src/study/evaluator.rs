@@ -7,7 +7,7 @@
 //! simulation that fails (diverges, leaves the finite range, cannot step) makes its point
 //! infeasible; it is recorded, never a crash.
 
-use super::executor::{SampleExecutor, SampleJob, Threads};
+use super::executor::{SampleExecutor, SampleJob, Simulated, Threads};
 use super::score::{PointEvaluation, SampleOutcome, SampleResult, metric_map, score};
 use crate::cache::{CacheKey, EvalCache, EvalInfo, Outcome, stable_hash};
 use crate::metrics::{self, MetricsConfig};
@@ -172,16 +172,33 @@ impl<'a> RobustEvaluator<'a> {
         self.samples.len()
     }
 
-    /// Evaluate several points: their (point, sample) simulations form one batch for the executor.
+    /// Evaluate several points: the (point, sample) simulations the cache cannot answer form one
+    /// batch for the executor; results are stored to the cache as they arrive.
     pub fn evaluate(&self, points: &[OperatingPoint]) -> Vec<PointEvaluation> {
         let n = self.samples.len();
         let jobs: Vec<SampleJob> = points
             .iter()
             .flat_map(|&op| (0..n).map(move |sample| SampleJob { op, sample }))
             .collect();
-        let results = self
+        let mut results: Vec<Option<SampleResult>> = vec![None; jobs.len()];
+        let mut missing: Vec<usize> = Vec::new();
+        for (k, job) in jobs.iter().enumerate() {
+            match self.cached(*job) {
+                Some(hit) => results[k] = Some(hit),
+                None => missing.push(k),
+            }
+        }
+        let batch: Vec<SampleJob> = missing.iter().map(|&k| jobs[k]).collect();
+        let simulated = self
             .executor
-            .execute(&jobs, &|job| self.run_sample(job.op, job.sample));
+            .execute(&batch, &|job| self.simulate_job(job), &|i, run| {
+                self.store(batch[i], run)
+            });
+        for (&k, run) in missing.iter().zip(simulated) {
+            results[k] = Some(self.result(jobs[k], run.outcome, false));
+        }
+        let results: Vec<SampleResult> =
+            results.into_iter().map(|r| r.expect("every job")).collect();
         points
             .iter()
             .zip(results.chunks(n))
@@ -189,47 +206,67 @@ impl<'a> RobustEvaluator<'a> {
             .collect()
     }
 
-    fn run_sample(&self, op: OperatingPoint, index: usize) -> SampleResult {
-        let sample = &self.samples.samples[index];
-        let key = CacheKey::new(op.omega, op.v0, index, sample.seed, self.model_hash);
-        let done = |outcome: SampleOutcome, cached: bool| {
-            if let Some(p) = &self.progress {
-                p();
-            }
-            SampleResult {
-                sample: index,
-                seed: sample.seed,
-                outcome,
-                cached,
-            }
-        };
-        if let Some(hit) = self.cache.and_then(|c| c.get(&key)) {
-            self.counters.cached.fetch_add(1, Ordering::Relaxed);
-            return done(from_cache(hit), true);
+    fn key(&self, job: SampleJob) -> CacheKey {
+        let seed = self.samples.samples[job.sample].seed;
+        CacheKey::new(job.op.omega, job.op.v0, job.sample, seed, self.model_hash)
+    }
+
+    fn result(&self, job: SampleJob, outcome: SampleOutcome, cached: bool) -> SampleResult {
+        SampleResult {
+            sample: job.sample,
+            seed: self.samples.samples[job.sample].seed,
+            outcome,
+            cached,
         }
+    }
+
+    fn tick(&self) {
+        if let Some(p) = &self.progress {
+            p();
+        }
+    }
+
+    /// The cache's answer for `job`, if it has one.
+    fn cached(&self, job: SampleJob) -> Option<SampleResult> {
+        let hit = self.cache.and_then(|c| c.get(&self.key(job)))?;
+        self.counters.cached.fetch_add(1, Ordering::Relaxed);
+        self.tick();
+        Some(self.result(job, from_cache(hit), true))
+    }
+
+    /// Simulate one job (no cache): what an executor runs, on this process or another.
+    pub fn simulate_job(&self, job: SampleJob) -> Simulated {
         let clock = Instant::now();
-        let outcome = self.simulate(op, index);
+        let outcome = self.simulate(job.op, job.sample);
+        Simulated {
+            outcome,
+            wall_time_s: clock.elapsed().as_secs_f64(),
+        }
+    }
+
+    /// Count a finished simulation, store it to the cache and tick the progress.
+    fn store(&self, job: SampleJob, run: &Simulated) {
         self.counters.simulated.fetch_add(1, Ordering::Relaxed);
-        if matches!(outcome, SampleOutcome::Failed(_)) {
+        if matches!(run.outcome, SampleOutcome::Failed(_)) {
             self.counters.failed.fetch_add(1, Ordering::Relaxed);
         }
         if let Some(cache) = self.cache {
-            let stored = match &outcome {
+            let stored = match &run.outcome {
                 SampleOutcome::Metrics(m) => Outcome::Ok { metrics: m.clone() },
                 SampleOutcome::Failed(msg) => Outcome::Failed {
                     message: msg.clone(),
                 },
             };
             let info = EvalInfo {
-                wall_time_s: Some(clock.elapsed().as_secs_f64()),
+                wall_time_s: Some(run.wall_time_s),
                 version: Some(crate::VERSION.to_string()),
             };
             // A cache that cannot be written costs a re-simulation later, never this result.
-            if let Err(e) = cache.insert_with_info(key, stored, Some(info)) {
+            if let Err(e) = cache.insert_with_info(self.key(job), stored, Some(info)) {
                 eprintln!("warning: {e}");
             }
         }
-        done(outcome, false)
+        self.tick();
     }
 
     fn simulate(&self, op: OperatingPoint, index: usize) -> SampleOutcome {

@@ -3,11 +3,12 @@
 //! evaluator only forms the batch of (operating point, sample) jobs and hands it over; threads on
 //! one machine ([`Threads`]) or, later, ranks of an MPI job run them.
 //!
-//! Contract: `execute` returns one result per job, in job order, and each result depends only on
-//! its job (per-sample seeds come from the master seed and the sample index), so every executor
+//! The evaluator answers what it can from the evaluation cache first; an executor only runs
+//! simulations. Contract: `execute` returns one result per job, in job order, and each result
+//! depends only on its job (per-sample seeds come from the master seed and the sample index), so every executor
 //! gives bitwise the same results whatever its parallelism or order of work.
 
-use super::score::SampleResult;
+use super::score::SampleOutcome;
 use crate::model::OperatingPoint;
 use rayon::prelude::*;
 
@@ -19,15 +20,25 @@ pub struct SampleJob {
     pub sample: usize,
 }
 
+/// What one simulation gives: the metrics (or why it failed) and how long it took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Simulated {
+    pub outcome: SampleOutcome,
+    /// Wall time of the simulation, s (for the cache's records, not for any result).
+    pub wall_time_s: f64,
+}
+
+/// The work of one job, as the evaluator gives it to an executor.
+pub type RunJob<'a> = dyn Fn(SampleJob) -> Simulated + Sync + 'a;
+/// Called on the calling process once per job as its result arrives: (job index, result).
+pub type OnResult<'a> = dyn Fn(usize, &Simulated) + Sync + 'a;
+
 /// Runs a batch of simulations.
 pub trait SampleExecutor: Send + Sync {
-    /// Run every job with `run` and return the results in job order. An executor may call `run`
-    /// on any of its threads, in any order.
-    fn execute(
-        &self,
-        jobs: &[SampleJob],
-        run: &(dyn Fn(SampleJob) -> SampleResult + Sync),
-    ) -> Vec<SampleResult>;
+    /// Run every job and return the results in job order, calling `done` for each as it
+    /// arrives. An executor may call `run` on any of its threads, in any order, or hand the job
+    /// to another process that runs the same work on its own copy of the problem.
+    fn execute(&self, jobs: &[SampleJob], run: &RunJob, done: &OnResult) -> Vec<Simulated>;
 
     /// What runs the jobs, for the terminal and reports ("4 threads").
     fn describe(&self) -> String;
@@ -38,12 +49,15 @@ pub trait SampleExecutor: Send + Sync {
 pub struct Threads;
 
 impl SampleExecutor for Threads {
-    fn execute(
-        &self,
-        jobs: &[SampleJob],
-        run: &(dyn Fn(SampleJob) -> SampleResult + Sync),
-    ) -> Vec<SampleResult> {
-        jobs.par_iter().map(|&job| run(job)).collect()
+    fn execute(&self, jobs: &[SampleJob], run: &RunJob, done: &OnResult) -> Vec<Simulated> {
+        jobs.par_iter()
+            .enumerate()
+            .map(|(i, &job)| {
+                let r = run(job);
+                done(i, &r);
+                r
+            })
+            .collect()
     }
 
     fn describe(&self) -> String {
@@ -56,12 +70,15 @@ impl SampleExecutor for Threads {
 pub struct Serial;
 
 impl SampleExecutor for Serial {
-    fn execute(
-        &self,
-        jobs: &[SampleJob],
-        run: &(dyn Fn(SampleJob) -> SampleResult + Sync),
-    ) -> Vec<SampleResult> {
-        jobs.iter().map(|&job| run(job)).collect()
+    fn execute(&self, jobs: &[SampleJob], run: &RunJob, done: &OnResult) -> Vec<Simulated> {
+        jobs.iter()
+            .enumerate()
+            .map(|(i, &job)| {
+                let r = run(job);
+                done(i, &r);
+                r
+            })
+            .collect()
     }
 
     fn describe(&self) -> String {

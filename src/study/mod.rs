@@ -14,7 +14,7 @@ pub mod executor;
 pub mod score;
 
 pub use evaluator::{RobustEvaluator, SetupError, WorkCounters, model_hash};
-pub use executor::{SampleExecutor, SampleJob, Serial, Threads};
+pub use executor::{OnResult, RunJob, SampleExecutor, SampleJob, Serial, Simulated, Threads};
 pub use score::{
     ChanceValue, PointEvaluation, RiskValue, SampleOutcome, SampleResult, deterministic_violations,
     metric_map, score,
