@@ -9,12 +9,38 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // Under mpirun (`--features mpi`): ranks 1…N−1 simulate what rank 0 sends them; rank 0 runs
+    // the command and releases them at the end, whatever its outcome.
+    #[cfg(feature = "mpi")]
+    let _universe = {
+        use drillopt::study::mpi;
+        let Some((universe, threading)) =
+            ::mpi::initialize_with_threading(::mpi::Threading::Serialized)
+        else {
+            eprintln!("error: MPI could not be initialised");
+            return ExitCode::FAILURE;
+        };
+        if threading < ::mpi::Threading::Serialized && mpi::ranks() > 1 {
+            eprintln!(
+                "error: the MPI library gives threading level {threading:?}; drillopt needs Serialized"
+            );
+            return ExitCode::FAILURE;
+        }
+        if mpi::rank() > 0 {
+            mpi::serve();
+            return ExitCode::SUCCESS;
+        }
+        universe
+    };
     let cli = drillopt::cli::Cli::parse();
-    match drillopt::cli::run(cli) {
+    let status = match drillopt::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
-    }
+    };
+    #[cfg(feature = "mpi")]
+    drillopt::study::mpi::stop_workers();
+    status
 }

@@ -48,9 +48,17 @@ pub fn evaluator<'a>(
     cache: Option<&'a EvalCache>,
     bar: &'a ProgressBar,
 ) -> anyhow::Result<RobustEvaluator<'a>> {
-    Ok(RobustEvaluator::new(problem, cache)
+    let ev = RobustEvaluator::new(problem, cache)
         .context("setting up the robust evaluation")?
-        .with_progress(move || bar.inc(1)))
+        .with_progress(move || bar.inc(1));
+    // Under mpirun the simulations go to the other ranks.
+    #[cfg(feature = "mpi")]
+    let ev = if crate::study::mpi::ranks() > 1 {
+        ev.with_executor(crate::study::mpi::MpiExecutor::new(problem))
+    } else {
+        ev
+    };
+    Ok(ev)
 }
 
 /// The terminal table of evaluated points.

@@ -81,6 +81,8 @@ pub struct WorkJson {
     pub simulations_from_cache: usize,
     pub simulations_failed: usize,
     pub samples_per_point: usize,
+    /// What ran the simulations ("2 threads", "4 MPI ranks").
+    pub executor: String,
     pub wall_time_s: f64,
 }
 
@@ -92,6 +94,7 @@ impl WorkJson {
             simulations_from_cache: ev.counters.cached.load(Relaxed),
             simulations_failed: ev.counters.failed.load(Relaxed),
             samples_per_point: ev.samples_per_point(),
+            executor: ev.executor().describe(),
             wall_time_s,
         }
     }

@@ -11,6 +11,8 @@
 
 pub mod evaluator;
 pub mod executor;
+#[cfg(feature = "mpi")]
+pub mod mpi;
 pub mod score;
 
 pub use evaluator::{RobustEvaluator, SetupError, WorkCounters, model_hash};
