@@ -173,6 +173,33 @@ impl EvalCache {
         })
     }
 
+    /// Whether another process holds the cache file at `path` open (its advisory lock), i.e. a
+    /// run is using it now. A missing file is not in use; where locks are unsupported, `false`.
+    pub fn in_use(path: impl AsRef<Path>) -> Result<bool, CacheError> {
+        let path = path.as_ref();
+        let file = match OpenOptions::new().read(true).open(path) {
+            Ok(f) => f,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+            Err(source) => {
+                return Err(CacheError::Io {
+                    path: path.to_path_buf(),
+                    source,
+                });
+            }
+        };
+        Ok(matches!(file.try_lock(), Err(TryLockError::WouldBlock)))
+    }
+
+    /// Records whose key belongs to another model hash: results of other numerics or of another
+    /// problem, which this run ignores.
+    pub fn other_models(&self, model_hash: u64) -> usize {
+        self.lock()
+            .entries
+            .keys()
+            .filter(|k| k.model_hash != model_hash)
+            .count()
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, Inner> {
         // Inner is updated only after a successful write, so it is consistent even if a thread
         // panicked while holding the lock.

@@ -19,6 +19,11 @@ pub fn out_dir(out: &Option<PathBuf>, problem: &Problem, command: &str) -> PathB
 /// (an old cache is kept beside as `cache.jsonl.old`).
 pub fn open_cache(out: &Path, resume: bool) -> anyhow::Result<EvalCache> {
     let path = out.join("cache.jsonl");
+    anyhow::ensure!(
+        !EvalCache::in_use(&path)?,
+        "{} is in use by another drillopt run; wait for it to finish or choose another --out",
+        path.display()
+    );
     if !resume && path.exists() {
         std::fs::rename(&path, out.join("cache.jsonl.old"))
             .with_context(|| format!("moving the old cache {} aside", path.display()))?;
@@ -51,6 +56,15 @@ pub fn evaluator<'a>(
     let ev = RobustEvaluator::new(problem, cache)
         .context("setting up the robust evaluation")?
         .with_progress(move || bar.inc(1));
+    if let Some(c) = cache {
+        let stale = c.other_models(ev.model_hash);
+        if stale > 0 && !bar.is_hidden() {
+            eprintln!(
+                "{stale} cached results in {} are of other numerics or another problem: ignored",
+                c.path().display()
+            );
+        }
+    }
     // Under mpirun the simulations go to the other ranks.
     #[cfg(feature = "mpi")]
     let ev = if crate::study::mpi::ranks() > 1 {

@@ -23,7 +23,7 @@ const BETA: f64 = 0.25;
 const GAMMA: f64 = 0.5;
 
 /// Tolerances of the Newton iteration and of the local error.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct NewmarkSettings {
     /// Newton stops when the displacement update ‖h²β Δq̈‖ ≤ newton_tol (atol + rtol ‖q‖).
     pub newton_tol: f64,

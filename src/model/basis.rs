@@ -9,7 +9,7 @@
 use std::fmt;
 
 /// How many modes of one family to keep.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub enum FamilySize {
     /// The `n` lowest modes of the family (for bending: per plane), n ≥ 1.
     Count(usize),
@@ -40,7 +40,7 @@ impl fmt::Display for FamilySize {
 }
 
 /// The reduced basis of a problem.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub enum BasisSpec {
     /// The `N` lowest modes whatever their family (the seed paper's choice, `mesh.reduced_modes`).
     Lowest(usize),

@@ -2,7 +2,7 @@
 //! in code (tests, benches); every field is in SI units.
 
 /// Pipe material and cross-section (MODEL.md §1).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Pipe {
     /// Steel density ρ, kg/m³.
     pub density: f64,
@@ -21,7 +21,7 @@ pub struct Pipe {
 }
 
 /// Wall contact and friction at every node (MODEL.md §5, Eqs. (2), (3)).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct WallContact {
     /// Linear contact stiffness k_FS1, N/m.
     pub stiffness: f64,
@@ -36,7 +36,7 @@ pub struct WallContact {
 }
 
 /// The drillstring, borehole and environment.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Drillstring {
     /// Length L from the top drive (x = 0) to the bit (x = L), m.
     pub length: f64,
@@ -62,7 +62,7 @@ impl Drillstring {
 }
 
 /// Finite-element discretisation and reduction (MODEL.md §7).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Mesh {
     /// Number of 2-node beam elements N (6(N+1) DOF).
     pub elements: usize,
@@ -78,7 +78,7 @@ impl Mesh {
 }
 
 /// Imposed motion at the top drive (MODEL.md §4).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct OperatingPoint {
     /// Rotation speed Ω, rad/s.
     pub omega: f64,
@@ -87,7 +87,7 @@ pub struct OperatingPoint {
 }
 
 /// Time window and outputs of one simulation.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Simulation {
     /// Simulated time window, s.
     pub duration: f64,
@@ -102,7 +102,8 @@ pub struct Simulation {
 }
 
 /// The state a run starts from (MODEL.md §4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Start {
     /// The steady drilling state of the operating point (bit, wall and damping loads on).
     #[default]

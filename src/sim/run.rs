@@ -21,7 +21,7 @@ use serde::Serialize;
 use std::time::Instant;
 
 /// Time window and step control of a run.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RunSettings {
     /// Simulated duration, s.
     pub duration: f64,

@@ -62,25 +62,53 @@ pub enum SetupError {
     },
 }
 
-/// Hash of everything that determines a simulation's result apart from the operating point and
-/// the sample: drillopt's version, the model, mesh, simulation window and uncertain laws.
+/// Everything that determines a simulation's result apart from the operating point and the
+/// sample, in canonical form: JSON with fields in declaration order and every float written in
+/// its shortest exact form, so equal inputs give equal bytes whatever the Rust version or the
+/// layout of the structs' `Debug` output.
+#[derive(serde::Serialize)]
+struct CanonicalModel<'a> {
+    /// Revision of the numerics ([`crate::sim::SIMULATOR_REVISION`]): bumped by any change that
+    /// can move a simulated number.
+    simulator_revision: u32,
+    model: &'a Drillstring,
+    mesh: &'a crate::model::Mesh,
+    simulation: &'a crate::model::Simulation,
+    /// Integrator settings, step limits and probes of every run.
+    run: &'a RunSettings,
+    /// The uncertain parameters and their laws, in declaration order.
+    uncertain: Vec<(&'a str, Distribution)>,
+}
+
+/// [`stable_hash`] of the canonical serialisation of everything that determines a simulation's
+/// result apart from the operating point and the sample: the simulator revision, the model (bit
+/// law by name and parameters), mesh and basis, simulation window and start, integrator
+/// settings, and the uncertain laws. The drillopt version is not part of it: a release that does
+/// not change the numerics keeps its cache.
 pub fn model_hash(problem: &Problem) -> u64 {
-    let laws: Vec<(&str, Distribution)> = problem
-        .study
-        .uncertain
-        .iter()
-        .map(|u| (u.key.name(), u.law))
-        .collect();
-    let text = format!(
-        "drillopt {} rev {}|{:?}|{:?}|{:?}|{:?}",
-        crate::VERSION,
-        crate::sim::SIMULATOR_REVISION,
-        problem.model,
-        problem.mesh,
-        problem.simulation,
-        laws
-    );
-    stable_hash(text.as_bytes())
+    let run = run_settings(problem);
+    let canonical = CanonicalModel {
+        simulator_revision: crate::sim::SIMULATOR_REVISION,
+        model: &problem.model,
+        mesh: &problem.mesh,
+        simulation: &problem.simulation,
+        run: &run,
+        uncertain: problem
+            .study
+            .uncertain
+            .iter()
+            .map(|u| (u.key.name(), u.law))
+            .collect(),
+    };
+    let bytes = serde_json::to_vec(&canonical).expect("the model serialises");
+    stable_hash(&bytes)
+}
+
+/// The settings of every run of a problem's study.
+fn run_settings(problem: &Problem) -> RunSettings {
+    let mut settings = RunSettings::new(problem.simulation.duration, problem.simulation.time_step);
+    settings.probes = problem.simulation.probes.clone();
+    settings
 }
 
 impl<'a> RobustEvaluator<'a> {
@@ -134,9 +162,7 @@ impl<'a> RobustEvaluator<'a> {
                 })
                 .collect()
         };
-        let mut settings =
-            RunSettings::new(problem.simulation.duration, problem.simulation.time_step);
-        settings.probes = problem.simulation.probes.clone();
+        let settings = run_settings(problem);
         Ok(RobustEvaluator {
             problem,
             samples,

@@ -129,6 +129,28 @@ impl fmt::Debug for BitRock {
     }
 }
 
+/// Canonical form: `{"law": name, "parameters": {key: value, …}}` in table order (cache keys).
+impl serde::Serialize for BitRock {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::{SerializeMap, SerializeStruct};
+        struct Parameters<'a>(&'a dyn BitRockLaw);
+        impl serde::Serialize for Parameters<'_> {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                let specs = self.0.parameters();
+                let mut m = s.serialize_map(Some(specs.len()))?;
+                for (i, p) in specs.iter().enumerate() {
+                    m.serialize_entry(p.key, &self.0.value(i))?;
+                }
+                m.end()
+            }
+        }
+        let mut st = serializer.serialize_struct("BitRock", 2)?;
+        st.serialize_field("law", self.0.name())?;
+        st.serialize_field("parameters", &Parameters(self.0.as_ref()))?;
+        st.end()
+    }
+}
+
 impl PartialEq for BitRock {
     fn eq(&self, other: &Self) -> bool {
         let n = self.0.parameters().len();

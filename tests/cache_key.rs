@@ -1,0 +1,147 @@
+//! The evaluation cache cannot lie (issue 15): its key changes whenever a simulated number could,
+//! the numerics are tied to `SIMULATOR_REVISION` by a golden run, and a live cache is refused to a
+//! second run.
+
+use drillopt::cache::{CacheKey, EvalCache, Outcome};
+use drillopt::model::OperatingPoint;
+use drillopt::problem::Problem;
+use drillopt::sim::{Effects, InitialState, RunSettings, SIMULATOR_REVISION, simulate};
+use drillopt::study::model_hash;
+use std::path::Path;
+use std::process::Command;
+
+const TINY: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/problems/regression/tiny_string.toml"
+);
+
+fn tiny_text() -> String {
+    std::fs::read_to_string(TINY).unwrap()
+}
+
+fn hash_of(text: &str) -> u64 {
+    model_hash(&Problem::from_toml(text, Path::new(TINY)).unwrap())
+}
+
+#[test]
+fn the_key_changes_with_everything_that_moves_a_simulation_and_nothing_else() {
+    let base = tiny_text();
+    let h = hash_of(&base);
+    // Same validated problem, different text: same key.
+    assert_eq!(hash_of(&format!("# a comment\n{base}\n\n")), h);
+    let edits: Vec<(&str, String)> = vec![
+        (
+            "bit parameter",
+            base.replacen("\"0.04 m\"", "\"0.041 m\"", 1),
+        ),
+        ("mesh", base.replacen("elements = 12", "elements = 13", 1)),
+        (
+            "wall friction",
+            base.replacen("friction = 1e-5", "friction = 2e-5", 1),
+        ),
+        (
+            "start",
+            base.replacen("[simulation]", "[simulation]\nstart = \"unloaded\"", 1),
+        ),
+        (
+            "uncertain law",
+            format!(
+                "{base}\n[uncertain]\nsamples = 2\n[[uncertain.parameter]]\nkey = \"model.bit.friction\"\nlaw = \"gamma\"\nmean = \"0.04 m\"\ncov = 0.1\n"
+            ),
+        ),
+    ];
+    for (what, text) in edits {
+        assert_ne!(text, base, "the edit of the {what} applies to the file");
+        assert_ne!(hash_of(&text), h, "{what} must change the key");
+    }
+}
+
+/// A short run of the tiny string whose metrics are tied to the simulator revision: if this test
+/// fails, the numerics changed — bump `sim::SIMULATOR_REVISION` (so caches of the old numerics are
+/// ignored) and record the new values here with the new revision.
+#[test]
+fn golden_run_of_the_current_simulator_revision() {
+    const GOLDEN_REVISION: u32 = 3;
+    // (metric, value) of the run below at revision GOLDEN_REVISION.
+    const GOLDEN: [(&str, f64); 4] = [
+        ("mean_wob_n", 98367.59259200263),
+        ("mean_tob_nm", 4381.713893173184),
+        ("stick_slip_severity", 0.581679946113546),
+        ("max_bit_speed_ratio", 1.5451140805915087),
+    ];
+    let p = Problem::load(TINY).unwrap();
+    let model = drillopt::rom::ReducedModel::new(&p.model, p.mesh.elements, &p.mesh.basis).unwrap();
+    let op = OperatingPoint {
+        omega: 8.0,
+        v0: 10.0 / 3600.0,
+    };
+    let out = simulate(
+        &model,
+        op,
+        Effects::ALL,
+        &RunSettings::new(0.6, p.simulation.time_step),
+        InitialState::Preloaded,
+        |_| {},
+    );
+    assert!(out.error.is_none());
+    let config =
+        drillopt::metrics::MetricsConfig::new(op.omega, op.v0, p.model.borehole_radius, 0.2);
+    let m = drillopt::metrics::compute(&out.series, &config).unwrap();
+    let values = m.named_values();
+    let get = |k: &str| values.iter().find(|(n, _)| *n == k).unwrap().1;
+    for (k, _) in GOLDEN {
+        println!("(\"{k}\", {:?}),", get(k));
+    }
+    assert_eq!(
+        SIMULATOR_REVISION, GOLDEN_REVISION,
+        "the revision moved: record this revision's golden values (printed above)"
+    );
+    for (k, v) in GOLDEN {
+        assert!(
+            (get(k) - v).abs() <= 1e-9 * v.abs(),
+            "{k} = {} but revision {GOLDEN_REVISION} gave {v}: the numerics changed, bump SIMULATOR_REVISION",
+            get(k)
+        );
+    }
+}
+
+#[test]
+fn a_cache_in_use_by_another_run_is_refused_with_or_without_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = EvalCache::open(dir.path().join("cache.jsonl")).unwrap();
+    cache
+        .insert(
+            CacheKey::new(1.0, 1e-3, 0, 0, 42),
+            Outcome::Failed {
+                message: "x".into(),
+            },
+        )
+        .unwrap();
+    assert_eq!(cache.other_models(42), 0);
+    assert_eq!(cache.other_models(43), 1);
+    assert!(EvalCache::in_use(dir.path().join("cache.jsonl")).unwrap());
+    for resume in [false, true] {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_drillopt"));
+        cmd.args([
+            "compare",
+            TINY,
+            "--point",
+            "60rpm,10m/h",
+            "--quiet",
+            "--out",
+        ])
+        .arg(dir.path());
+        if resume {
+            cmd.arg("--resume");
+        }
+        let out = cmd.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "resume = {resume}: accepted");
+        assert!(err.contains("in use by another drillopt run"), "{err}");
+    }
+    // The live cache was neither moved aside nor touched.
+    assert!(!dir.path().join("cache.jsonl.old").exists());
+    assert_eq!(cache.len(), 1);
+    drop(cache);
+    assert!(!EvalCache::in_use(dir.path().join("cache.jsonl")).unwrap());
+}
