@@ -9,15 +9,8 @@ use std::path::{Path, PathBuf};
 pub struct BatchArgs {
     /// Directory of problem files (*.toml, searched recursively).
     pub dir: PathBuf,
-    /// Output root: <out>/<problem> per problem [default: results/<problem>/batch].
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Reuse the finished simulations of an interrupted batch (each problem's cache).
-    #[arg(long)]
-    pub resume: bool,
-    /// Only the pass/fail table: no progress and no per-problem result tables.
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub run: super::study::RunArgs,
 }
 
 fn toml_files(dir: &Path, out: &mut Vec<PathBuf>) -> anyhow::Result<()> {
@@ -105,12 +98,12 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
             }
         };
         let Some(expect) = problem.study.expect.clone() else {
-            if !args.quiet {
+            if !args.run.quiet {
                 println!("skip {} (no [expect] section)", file.display());
             }
             continue;
         };
-        let out = match &args.out {
+        let out = match &args.run.out {
             Some(root) => root.join(&problem.name),
             None => Path::new("results").join(&problem.name).join("batch"),
         };
@@ -118,9 +111,9 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
             &problem,
             file,
             &out,
-            args.resume,
-            args.quiet,
-            !args.quiet,
+            args.run.resume,
+            args.run.quiet,
+            !args.run.quiet,
         ) {
             Err(e) => Verdict {
                 problem: problem.name.clone(),

@@ -21,16 +21,8 @@ pub struct CompareArgs {
     /// points outside the problem's constraints are evaluated and reported infeasible.
     #[arg(long = "point", required = true)]
     pub points: Vec<String>,
-    /// Output directory [default: results/<problem>/compare]: compare.json, the bit-speed plot,
-    /// cache.jsonl.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Reuse the finished simulations of an interrupted run (the evaluation cache in --out).
-    #[arg(long)]
-    pub resume: bool,
-    /// No progress bar and no table.
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub run: super::study::RunArgs,
 }
 
 pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
@@ -64,11 +56,11 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         .iter()
         .map(|p| parse_point(p))
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let out = study::out_dir(&args.out, &problem, "compare");
+    let out = study::out_dir(&args.run.out, &problem, "compare");
     let clock = Instant::now();
-    let cache = study::open_cache(&out, args.resume)?;
+    let cache = study::open_cache(&out, args.run.resume)?;
     let bar = study::progress_bar(
-        args.quiet,
+        args.run.quiet,
         (ops.len() * problem.study.samples.max(1)) as u64,
         "compare",
     );
@@ -95,7 +87,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     };
     report::write_json_atomic(&out.join("compare.json"), &json)?;
     super::study_plots::compare_plots(&out, &runs, &ops)?;
-    if !args.quiet {
+    if !args.run.quiet {
         study::print_table(&points);
         println!("  results in {}", out.display());
     }

@@ -18,15 +18,8 @@ pub struct MapArgs {
     /// Grid size n_Ω x n_V0, e.g. 15x15 (default: the problem's optimizer.grid).
     #[arg(long)]
     pub grid: Option<String>,
-    /// Output directory [default: results/<problem>/map]: map.json, heat maps, cache.jsonl.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Reuse the finished simulations of an interrupted run (the evaluation cache in --out).
-    #[arg(long)]
-    pub resume: bool,
-    /// No progress bar and no table.
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub run: super::study::RunArgs,
 }
 
 pub fn parse_grid(text: &str) -> anyhow::Result<[usize; 2]> {
@@ -52,11 +45,11 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         Some(g) => parse_grid(g)?,
         None => problem.study.optimizer.grid(),
     };
-    let out = study::out_dir(&args.out, &problem, "map");
+    let out = study::out_dir(&args.run.out, &problem, "map");
     let clock = Instant::now();
-    let cache = study::open_cache(&out, args.resume)?;
+    let cache = study::open_cache(&out, args.run.resume)?;
     let bar = study::progress_bar(
-        args.quiet,
+        args.run.quiet,
         (grid[0] * grid[1] * problem.study.samples.max(1)) as u64,
         "map",
     );
@@ -79,7 +72,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     };
     report::write_json_atomic(&out.join("map.json"), &json)?;
     super::study_plots::map_plots(&problem, &out, &m)?;
-    if !args.quiet {
+    if !args.run.quiet {
         for line in table(&m) {
             println!("{line}");
         }

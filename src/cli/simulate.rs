@@ -5,7 +5,7 @@
 use crate::metrics::{self, MetricsConfig};
 use crate::model::OperatingPoint;
 use crate::problem::{Dimension, Problem};
-use crate::report::{self, OperatingPointJson, ProblemRecord, RunStatus, SummaryJson};
+use crate::report::{self, ProblemRecord, RunStatus, SummaryJson};
 use crate::sim;
 use anyhow::Context;
 use clap::Args;
@@ -132,12 +132,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         problem_file: args.problem.display().to_string(),
         record: ProblemRecord::of(&problem),
         version: crate::VERSION,
-        operating_point: OperatingPointJson {
-            omega_rad_s: op.omega,
-            v0_m_s: op.v0,
-            omega_rpm: crate::units::to_rpm(op.omega),
-            v0_m_per_h: crate::units::to_m_per_h(op.v0),
-        },
+        operating_point: report::PointJson::at(op),
         duration_s: duration,
         settling_time_s: settling,
         start: problem.simulation.start.name(),

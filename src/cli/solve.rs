@@ -12,16 +12,8 @@ use std::time::Instant;
 pub struct SolveArgs {
     /// Problem file (TOML) with [constraints] and, optionally, [uncertain], [objective], [optimizer].
     pub problem: PathBuf,
-    /// Output directory (default results/<problem>/solve).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Continue an interrupted run: reuse every finished simulation of the evaluation cache.
-    #[arg(long)]
-    pub resume: bool,
-    /// No progress bar or progress messages (the result table and the numerical check are
-    /// still printed).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub run: super::study::RunArgs,
 }
 
 /// Run the optimisation and write its report; returns the outcome for `batch`. `quiet`: no
@@ -147,8 +139,15 @@ fn print_check(c: &NumericalCheck) {
 
 pub fn run(args: &SolveArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
-    let out = study::out_dir(&args.out, &problem, "solve");
-    let outcome = solve_and_report(&problem, &args.problem, &out, args.resume, args.quiet, true)?;
+    let out = study::out_dir(&args.run.out, &problem, "solve");
+    let outcome = solve_and_report(
+        &problem,
+        &args.problem,
+        &out,
+        args.run.resume,
+        args.run.quiet,
+        true,
+    )?;
     anyhow::ensure!(
         outcome.best.is_some(),
         "no feasible operating point was found; see {}",

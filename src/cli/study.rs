@@ -9,6 +9,24 @@ use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 
+/// Where a study command writes and whether it resumes: the options `solve`, `map`, `compare` and
+/// `batch` share.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RunArgs {
+    /// Output directory [default: results/<problem>/<command>; for batch, <out>/<problem> per
+    /// problem]: the JSON report, plots and the evaluation cache (cache.jsonl).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Continue an interrupted run: reuse every finished simulation of the evaluation cache in the
+    /// output directory.
+    #[arg(long)]
+    pub resume: bool,
+    /// No progress bar or messages (solve still prints its result; map and compare print
+    /// nothing; batch prints only the pass/fail table).
+    #[arg(long)]
+    pub quiet: bool,
+}
+
 /// Where a command writes: `--out` or `results/<problem>/<command>/`.
 pub fn out_dir(out: &Option<PathBuf>, problem: &Problem, command: &str) -> PathBuf {
     out.clone()

@@ -115,3 +115,15 @@ pub(crate) fn from_argmin(e: argmin::core::Error) -> OptimizeError {
         Err(other) => OptimizeError::Solver(other.to_string()),
     }
 }
+
+/// An evaluation budget of at least one point.
+pub(crate) fn check_budget(max_evaluations: usize) -> Result<(), OptimizeError> {
+    if max_evaluations == 0 {
+        return Err(OptimizeError::InvalidOption {
+            name: "max_evaluations",
+            value: 0.0,
+            reason: "must be ≥ 1",
+        });
+    }
+    Ok(())
+}

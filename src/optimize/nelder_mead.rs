@@ -99,14 +99,7 @@ impl NelderMeadOptions {
                 });
             }
         }
-        if self.max_evaluations == 0 {
-            return Err(OptimizeError::InvalidOption {
-                name: "max_evaluations",
-                value: 0.0,
-                reason: "must be ≥ 1",
-            });
-        }
-        Ok(())
+        super::error::check_budget(self.max_evaluations)
     }
 }
 

@@ -165,9 +165,9 @@ pub struct Constraints {
 // The [optimizer] section: one settings struct (and builder) per method.
 mod optimizer;
 pub use optimizer::{
-    GRID_POINTS, GridSettings, GridSettingsBuilder, MAX_EVALUATIONS, Method, NelderMeadSettings,
-    NelderMeadSettingsBuilder, OptimizerSettings, ParticleSwarmSettings,
-    ParticleSwarmSettingsBuilder, SettingsError, TrustRegionSettings, TrustRegionSettingsBuilder,
+    GRID_POINTS, GridSettings, GridSettingsBuilder, LocalSearchSettings,
+    LocalSearchSettingsBuilder, MAX_EVALUATIONS, Method, NelderMeadSettings, OptimizerSettings,
+    ParticleSwarmSettings, ParticleSwarmSettingsBuilder, SettingsError, TrustRegionSettings,
 };
 
 /// The optimum a regression problem is known to have.

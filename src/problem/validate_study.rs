@@ -513,27 +513,20 @@ fn optimizer(
     let seed = seed(c, "optimizer.seed", o.seed, 0)?;
     // Defaults, min_radius < initial_radius and the ranges again: the method's builder.
     let settings = match method {
-        Method::TrustRegion => {
-            let d = TrustRegionSettings::default();
-            TrustRegionSettings::builder()
+        Method::TrustRegion | Method::NelderMead => {
+            let d = LocalSearchSettings::default();
+            LocalSearchSettings::builder()
                 .max_evaluations(max_evaluations.unwrap_or(d.max_evaluations))
                 .start(start)
                 .initial_radius(initial_radius.unwrap_or(d.initial_radius))
                 .min_radius(min_radius.unwrap_or(d.min_radius))
                 .grid(grid.unwrap_or(d.grid))
                 .build()
-                .map(OptimizerSettings::TrustRegion)
-        }
-        Method::NelderMead => {
-            let d = NelderMeadSettings::default();
-            NelderMeadSettings::builder()
-                .max_evaluations(max_evaluations.unwrap_or(d.max_evaluations))
-                .start(start)
-                .initial_radius(initial_radius.unwrap_or(d.initial_radius))
-                .min_radius(min_radius.unwrap_or(d.min_radius))
-                .grid(grid.unwrap_or(d.grid))
-                .build()
-                .map(OptimizerSettings::NelderMead)
+                .map(if method == Method::TrustRegion {
+                    OptimizerSettings::TrustRegion
+                } else {
+                    OptimizerSettings::NelderMead
+                })
         }
         Method::ParticleSwarm => {
             let d = ParticleSwarmSettings::default();

@@ -1,6 +1,27 @@
 //! What the axes of every plot share: a long curve reduced to its extremes per time bucket
 //! ([`decimate_min_max`]), the range of an axis padded around its data ([`axis_range`]), and
-//! tick labels with just the digits their step needs ([`tick_label`]).
+//! tick labels with just the digits their step needs ([`tick_label`]), the font and the legend box
+//! ([`draw_legend`]).
+
+use plotters::coord::CoordTranslate;
+use plotters::prelude::*;
+
+/// The font of every plot.
+pub(super) const FONT: &str = "sans-serif";
+
+/// The legend of every plot: a translucent white box with a grey border at `position`.
+pub(super) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .label_font((FONT, 15))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.4))
+        .draw()
+}
 
 /// Number of time buckets a curve is reduced to before plotting (≤ 2 points each).
 pub const PLOT_BUCKETS: usize = 2000;

@@ -26,7 +26,7 @@ use crate::model::OperatingPoint;
 use crate::sim::TimeSeries;
 
 use super::atomic::write_atomic;
-use super::axes::{PLOT_BUCKETS, axis_range, decimate_min_max, tick_label};
+use super::axes::{FONT, PLOT_BUCKETS, axis_range, decimate_min_max, draw_legend, tick_label};
 use super::units::{M_PER_H_PER_M_PER_S, REV_PER_RAD, RPM_PER_RAD_S, operating_point_text, short};
 
 /// Image width, px.
@@ -35,7 +35,6 @@ const WIDTH: u32 = 1000;
 const PANEL_HEIGHT: u32 = 340;
 /// Height of the figure title strip, px.
 const TITLE_HEIGHT: u32 = 40;
-const FONT: &str = "sans-serif";
 /// Relative padding of a y range beyond the data, so curves do not touch the frame.
 const Y_PAD: f64 = 0.05;
 
@@ -308,13 +307,7 @@ fn draw_panel(
             ))?
             .label(label)
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], style));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .label_font((FONT, 15))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .draw()?;
+        draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
     }
     Ok(())
 }

@@ -64,6 +64,17 @@ pub struct PointJson {
 }
 
 impl PointJson {
+    /// An operating point in both unit systems.
+    pub fn at(op: crate::model::OperatingPoint) -> Self {
+        PointJson {
+            omega_rad_s: op.omega,
+            omega_rpm: crate::units::to_rpm(op.omega),
+            v0_m_s: op.v0,
+            v0_m_per_h: crate::units::to_m_per_h(op.v0),
+        }
+    }
+
+    /// The operating point of an evaluation.
     pub fn of(p: &PointEvaluation) -> Self {
         PointJson {
             omega_rad_s: p.omega_rad_s,

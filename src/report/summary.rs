@@ -17,15 +17,6 @@ pub enum RunStatus {
     NoMetrics,
 }
 
-/// An operating point in SI and driller units.
-#[derive(Debug, Clone, Serialize)]
-pub struct OperatingPointJson {
-    pub omega_rad_s: f64,
-    pub v0_m_s: f64,
-    pub omega_rpm: f64,
-    pub v0_m_per_h: f64,
-}
-
 /// `summary.json` of `drillopt simulate`.
 #[derive(Debug, Clone, Serialize)]
 pub struct SummaryJson<'a> {
@@ -34,7 +25,7 @@ pub struct SummaryJson<'a> {
     #[serde(flatten)]
     pub record: ProblemRecord<'a>,
     pub version: &'a str,
-    pub operating_point: OperatingPointJson,
+    pub operating_point: super::PointJson,
     pub duration_s: f64,
     /// Start of the analysis window (the problem's settling time, at most half the run), s.
     pub settling_time_s: f64,

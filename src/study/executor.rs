@@ -44,6 +44,13 @@ pub trait SampleExecutor: Send + Sync {
     fn describe(&self) -> String;
 }
 
+/// Job `i` run here, reported through `done`.
+fn run_one(i: usize, job: SampleJob, run: &RunJob, done: &OnResult) -> Simulated {
+    let r = run(job);
+    done(i, &r);
+    r
+}
+
 /// rayon's thread pool (all cores unless `RAYON_NUM_THREADS` says otherwise): the default.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Threads;
@@ -52,11 +59,7 @@ impl SampleExecutor for Threads {
     fn execute(&self, jobs: &[SampleJob], run: &RunJob, done: &OnResult) -> Vec<Simulated> {
         jobs.par_iter()
             .enumerate()
-            .map(|(i, &job)| {
-                let r = run(job);
-                done(i, &r);
-                r
-            })
+            .map(|(i, &job)| run_one(i, job, run, done))
             .collect()
     }
 
@@ -73,11 +76,7 @@ impl SampleExecutor for Serial {
     fn execute(&self, jobs: &[SampleJob], run: &RunJob, done: &OnResult) -> Vec<Simulated> {
         jobs.iter()
             .enumerate()
-            .map(|(i, &job)| {
-                let r = run(job);
-                done(i, &r);
-                r
-            })
+            .map(|(i, &job)| run_one(i, job, run, done))
             .collect()
     }
 

@@ -134,8 +134,13 @@ pub(super) const ENTRY: BitLawEntry = BitLawEntry {
     name: "detournay",
     doc: "drag-bit cutting and wear-flat friction, W = ζεad + σaℓ, T = ½εa²d + ½μγaσaℓ, d = 2πu̇/θ̇ (Detournay & Defourny 1992; Detournay et al. 2008)",
     parameters: &PARAMETERS,
-    build: |v| {
-        Box::new(Detournay {
+    build: |v| Box::new(Detournay::from_values(v)),
+};
+
+impl Detournay {
+    /// The law from its parameter values in table order (SI).
+    pub fn from_values(v: &[f64]) -> Self {
+        Detournay {
             radius: v[0],
             specific_energy: v[1],
             cutting_force_ratio: v[2],
@@ -145,11 +150,9 @@ pub(super) const ENTRY: BitLawEntry = BitLawEntry {
             geometry: v[6],
             spin_smoothing: v[7],
             velocity_smoothing: v[8],
-        })
-    },
-};
+        }
+    }
 
-impl Detournay {
     fn fields(&mut self) -> [&mut f64; 9] {
         [
             &mut self.radius,
@@ -239,17 +242,7 @@ mod tests {
 
     fn example() -> Detournay {
         let v: Vec<f64> = PARAMETERS.iter().map(|p| p.example).collect();
-        Detournay {
-            radius: v[0],
-            specific_energy: v[1],
-            cutting_force_ratio: v[2],
-            contact_strength: v[3],
-            wear_flat_length: v[4],
-            friction: v[5],
-            geometry: v[6],
-            spin_smoothing: v[7],
-            velocity_smoothing: v[8],
-        }
+        Detournay::from_values(&v)
     }
 
     #[test]

@@ -138,14 +138,7 @@ impl TrustRegionOptions {
                 reason: "need min_radius ≤ initial_radius ≤ max_radius",
             });
         }
-        if self.max_evaluations == 0 {
-            return Err(OptimizeError::InvalidOption {
-                name: "max_evaluations",
-                value: 0.0,
-                reason: "must be ≥ 1",
-            });
-        }
-        Ok(())
+        crate::optimize::error::check_budget(self.max_evaluations)
     }
 }
 

@@ -109,25 +109,35 @@ fn check_radii(initial_radius: f64, min_radius: f64) -> Result<(), SettingsError
     })
 }
 
-/// `method = "trust_region"` (`optimize::minimize_trust_region`). Radii are fractions of the
-/// bounds box (the optimizer works on its unit box).
+/// The local methods' settings: `method = "trust_region"` (`optimize::minimize_trust_region`;
+/// `initial_radius` is the initial trust radius and the step of the initial design, `min_radius`
+/// the radius below which it has converged) and `method = "nelder_mead"`
+/// (`optimize::minimize_nelder_mead`; `initial_radius` is the edge of the initial and every restart
+/// simplex, `min_radius` the simplex diameter that ends a run). Lengths are fractions of the bounds
+/// box (the optimizer works on its unit box).
 #[derive(Debug, Clone, PartialEq)]
-pub struct TrustRegionSettings {
-    /// Budget of design points (each one is `samples` simulations). Default 30; [3, 100000].
+pub struct LocalSearchSettings {
+    /// Budget of design points (each one is `samples` simulations; over all restarts for
+    /// Nelder–Mead). Default 30; [3, 100000].
     pub max_evaluations: usize,
     /// Starting point (Ω rad/s, V0 m/s); the operating point unless set.
     pub start: Option<[f64; 2]>,
-    /// Initial radius and step of the initial design. Default 0.25; (0, 1].
+    /// Initial radius (see above). Default 0.25; (0, 1].
     pub initial_radius: f64,
-    /// Converged when the radius falls below this. Default 0.02; (0, initial_radius).
+    /// Converged below this (see above). Default 0.02; (0, initial_radius).
     pub min_radius: f64,
     /// `drillopt map`'s default grid (n_Ω, n_V0). Default [9, 9]; each in [2, 200].
     pub grid: [usize; 2],
 }
 
-impl Default for TrustRegionSettings {
+/// Settings of `method = "trust_region"`.
+pub type TrustRegionSettings = LocalSearchSettings;
+/// Settings of `method = "nelder_mead"`.
+pub type NelderMeadSettings = LocalSearchSettings;
+
+impl Default for LocalSearchSettings {
     fn default() -> Self {
-        TrustRegionSettings {
+        LocalSearchSettings {
             max_evaluations: 30,
             start: None,
             initial_radius: 0.25,
@@ -137,44 +147,7 @@ impl Default for TrustRegionSettings {
     }
 }
 
-impl TrustRegionSettings {
-    fn validate(&self) -> Result<(), SettingsError> {
-        check_budget(self.max_evaluations)?;
-        check_grid(self.grid)?;
-        check_start(self.start)?;
-        check_radii(self.initial_radius, self.min_radius)
-    }
-}
-
-/// `method = "nelder_mead"` (`optimize::minimize_nelder_mead`). Lengths are fractions of the
-/// bounds box.
-#[derive(Debug, Clone, PartialEq)]
-pub struct NelderMeadSettings {
-    /// Budget of design points over all restarts. Default 30; [3, 100000].
-    pub max_evaluations: usize,
-    /// Starting point (Ω rad/s, V0 m/s); the operating point unless set.
-    pub start: Option<[f64; 2]>,
-    /// Edge of the initial (and every restart) simplex. Default 0.25; (0, 1].
-    pub initial_radius: f64,
-    /// A run stops when the simplex diameter falls below this. Default 0.02; (0, initial_radius).
-    pub min_radius: f64,
-    /// `drillopt map`'s default grid (n_Ω, n_V0). Default [9, 9]; each in [2, 200].
-    pub grid: [usize; 2],
-}
-
-impl Default for NelderMeadSettings {
-    fn default() -> Self {
-        NelderMeadSettings {
-            max_evaluations: 30,
-            start: None,
-            initial_radius: 0.25,
-            min_radius: 0.02,
-            grid: [9, 9],
-        }
-    }
-}
-
-impl NelderMeadSettings {
+impl LocalSearchSettings {
     fn validate(&self) -> Result<(), SettingsError> {
         check_budget(self.max_evaluations)?;
         check_grid(self.grid)?;
@@ -273,14 +246,7 @@ macro_rules! settings_builder {
     };
 }
 
-settings_builder!(TrustRegionSettings, TrustRegionSettingsBuilder {
-    max_evaluations: usize,
-    start: Option<[f64; 2]>,
-    initial_radius: f64,
-    min_radius: f64,
-    grid: [usize; 2],
-});
-settings_builder!(NelderMeadSettings, NelderMeadSettingsBuilder {
+settings_builder!(LocalSearchSettings, LocalSearchSettingsBuilder {
     max_evaluations: usize,
     start: Option<[f64; 2]>,
     initial_radius: f64,

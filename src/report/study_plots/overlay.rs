@@ -4,7 +4,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::report::axes::{PLOT_BUCKETS, axis_range, decimate_min_max, tick_label};
+use crate::report::axes::{PLOT_BUCKETS, axis_range, decimate_min_max, draw_legend, tick_label};
 use crate::report::plots::PlotError;
 use crate::report::units::{RPM_PER_RAD_S, short};
 use crate::sim::TimeSeries;
@@ -120,13 +120,7 @@ fn draw_overlay(root: &Area<'_>, curves: &[Curve<'_>]) -> DrawResult {
         }
     }
     if !curves.is_empty() {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .label_font((FONT, 15))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .draw()?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
     }
     Ok(())
 }

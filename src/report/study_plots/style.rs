@@ -28,7 +28,7 @@ pub(super) const METRIC_ROW_HEIGHT: u32 = 130;
 pub(super) const WIDE_WIDTH: u32 = 1000;
 /// Number of colour steps in a colour bar.
 pub(super) const COLORBAR_STEPS: usize = 64;
-pub(super) const FONT: &str = "sans-serif";
+pub(super) use crate::report::axes::FONT;
 pub(super) const OMEGA_LABEL: &str = "\u{3a9} [rpm]";
 pub(super) const V0_LABEL: &str = "V0 [m/h]";
 
