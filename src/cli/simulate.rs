@@ -121,10 +121,11 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
 
     let settling = problem.simulation.settling_time.min(0.5 * duration);
     let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling);
-    let (metrics, metrics_error) = match metrics::compute(&output.series, &config) {
-        Ok(m) => (Some(m), None),
-        Err(e) => (None, Some(e.to_string())),
-    };
+    let (metrics, metrics_error) =
+        match metrics::of_run(&output, &config, problem.model.pipe.yield_strength) {
+            Ok(m) => (Some(m), None),
+            Err(e) => (None, Some(e.to_string())),
+        };
     // A window too short to batch keeps its metrics and goes without intervals.
     let confidence_95 = metrics::batch_means(&output.series, &config).ok();
     let summary = SummaryJson {

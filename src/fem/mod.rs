@@ -16,6 +16,7 @@ mod inertia;
 mod lanes;
 mod shape;
 mod strain_energy;
+mod stress;
 #[cfg(test)]
 mod test_support;
 
@@ -26,3 +27,4 @@ pub use element::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector};
 pub use inertia::ElementInertia;
 pub use shape::{Interpolation, gauss_legendre_4};
 pub use strain_energy::{ElementStrains, STRAIN_VARS, StrainEnergy, Strains};
+pub use stress::{SectionLoads, SectionStress};

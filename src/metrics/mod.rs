@@ -197,12 +197,42 @@ pub struct Metrics {
     /// consistent run). The denominator is the gross energy flow (the work put in by the top
     /// drive while drilling), not the net W_in, which is a small difference of two large flows.
     pub energy_balance_residual: f64,
+    /// Largest von Mises stress at the outer fibre over the string and the analysis window, Pa
+    /// (the [`crate::sim::StressEnvelope`]; definition in [`crate::fem::SectionStress`]). NaN
+    /// when the run kept no envelope.
+    pub max_von_mises_pa: f64,
+    /// Where along the string (element midpoint x from the top drive) it occurs, m.
+    pub max_von_mises_at_m: f64,
+    /// Yield strength over `max_von_mises_pa` (> 1: no fibre yields); NaN when the problem gives
+    /// no `model.pipe.yield_strength`.
+    pub von_mises_safety_factor: f64,
+    /// Largest compressive axial force anywhere along the string over the window, N (≥ 0).
+    pub max_compression_n: f64,
+    /// Largest torque magnitude anywhere along the string over the window, N·m.
+    pub max_torque_nm: f64,
 }
 
 impl Metrics {
+    /// These metrics with the stress metrics of `envelope` (see the fields), against the pipe's
+    /// yield strength if known.
+    pub fn with_stresses(
+        mut self,
+        envelope: &crate::sim::StressEnvelope,
+        yield_strength: Option<f64>,
+    ) -> Self {
+        let (peak, at) = envelope.peak().unwrap_or((f64::NAN, f64::NAN));
+        let max = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::max);
+        self.max_von_mises_pa = peak;
+        self.max_von_mises_at_m = at;
+        self.von_mises_safety_factor = yield_strength.map_or(f64::NAN, |y| y / peak);
+        self.max_compression_n = max(&envelope.max_compression_n);
+        self.max_torque_nm = max(&envelope.max_torque_nm);
+        self
+    }
+
     /// Every metric with its `summary.json` key, values as they are (±∞ and NaN included: a
     /// JSON round trip would turn them into null).
-    pub fn named_values(&self) -> [(&'static str, f64); 18] {
+    pub fn named_values(&self) -> [(&'static str, f64); 23] {
         [
             ("mean_rop_m_s", self.mean_rop_m_s),
             ("mean_rop_m_per_h", self.mean_rop_m_per_h),
@@ -225,11 +255,27 @@ impl Metrics {
             ("efficiency", self.efficiency),
             ("axial_power_share", self.axial_power_share),
             ("energy_balance_residual", self.energy_balance_residual),
+            ("max_von_mises_pa", self.max_von_mises_pa),
+            ("max_von_mises_at_m", self.max_von_mises_at_m),
+            ("von_mises_safety_factor", self.von_mises_safety_factor),
+            ("max_compression_n", self.max_compression_n),
+            ("max_torque_nm", self.max_torque_nm),
         ]
     }
 }
 
-/// Compute the metrics of `series` (see [`Metrics`] for the definitions). Refuses an invalid
+/// The metrics of a run: those of its time series ([`compute`]) with the stress metrics of its
+/// envelope, against the pipe's yield strength if known.
+pub fn of_run(
+    run: &crate::sim::RunOutput,
+    config: &MetricsConfig,
+    yield_strength: Option<f64>,
+) -> Result<Metrics, MetricsError> {
+    Ok(compute(&run.series, config)?.with_stresses(&run.envelope, yield_strength))
+}
+
+/// Compute the metrics of `series` (see [`Metrics`] for the definitions). The stress metrics
+/// need the run's envelope: they are NaN here (see [`of_run`]). Refuses an invalid
 /// configuration, an empty or inconsistent series (unequal channel lengths, non-finite samples,
 /// times not strictly increasing) and an analysis window with fewer than two samples.
 pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, MetricsError> {
@@ -313,6 +359,11 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
         efficiency,
         axial_power_share,
         energy_balance_residual: energy_balance_residual(series),
+        max_von_mises_pa: f64::NAN,
+        max_von_mises_at_m: f64::NAN,
+        von_mises_safety_factor: f64::NAN,
+        max_compression_n: f64::NAN,
+        max_torque_nm: f64::NAN,
     })
 }
 

@@ -378,7 +378,26 @@ fn energy_balance_residual_without_input_is_finite() {
 
 #[test]
 fn serializes_with_exactly_the_documented_keys() {
-    let m = compute(&steady(&UNEVEN), &config(0.0)).unwrap();
+    // The stress metrics come from the run's envelope: NaN (null in JSON) without one.
+    let bare = serde_json::to_value(compute(&steady(&UNEVEN), &config(0.0)).unwrap()).unwrap();
+    assert!(bare["max_von_mises_pa"].is_null());
+    let mut envelope = crate::sim::StressEnvelope::new(2, 1.0, 0.0);
+    envelope.max_von_mises_pa = vec![1e8, 3e8];
+    envelope.max_compression_n = vec![5e4, 4e4];
+    envelope.max_torque_nm = vec![2e3, 3e3];
+    let m = compute(&steady(&UNEVEN), &config(0.0))
+        .unwrap()
+        .with_stresses(&envelope, Some(930e6));
+    assert_eq!(
+        (
+            m.max_von_mises_pa,
+            m.max_von_mises_at_m,
+            m.max_compression_n,
+            m.max_torque_nm
+        ),
+        (3e8, 1.5, 5e4, 3e3)
+    );
+    assert!((m.von_mises_safety_factor - 3.1).abs() < 1e-12);
     let json = serde_json::to_value(&m).unwrap();
     let mut keys: Vec<&str> = json
         .as_object()

@@ -10,5 +10,7 @@ mod section;
 pub use basis::{BasisSpec, FamilySize};
 pub use bit::{BitLoad, BitRock, BitRockLaw};
 pub use parameters::{Enters, ParameterKey, ParameterSpec};
-pub use params::{Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start, WallContact};
+pub use params::{
+    API_GRADES, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start, WallContact,
+};
 pub use section::{Section, cowper_shear_factor};

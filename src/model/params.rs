@@ -18,7 +18,18 @@ pub struct Pipe {
     pub shear_factor: f64,
     /// Torsional correction κ_t (1 is exact St-Venant torsion, stiffness G J).
     pub torsion_factor: f64,
+    /// Minimum yield strength, Pa (the von Mises safety factor's reference); None: not given.
+    pub yield_strength: Option<f64>,
 }
+
+/// The API drill-pipe grades (API Spec 5DP, Table C.3: minimum yield strength in ksi, here in Pa
+/// with 1 ksi = 6.894757293168 MPa): E-75, X-95, G-105, S-135.
+pub const API_GRADES: [(&str, f64); 4] = [
+    ("E-75", 75.0 * 6.894_757_293_168e6),
+    ("X-95", 95.0 * 6.894_757_293_168e6),
+    ("G-105", 105.0 * 6.894_757_293_168e6),
+    ("S-135", 135.0 * 6.894_757_293_168e6),
+];
 
 /// Wall contact and friction at every node (MODEL.md §5, Eqs. (2), (3)).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

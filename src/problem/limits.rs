@@ -25,6 +25,7 @@ pub fn range_of(key: &str) -> Option<Range> {
         "model.gravity" => closed(0.0, 30.0, "0 to a few g"),
         "model.pipe.inner_radius" => closed(0.0, 1.0, "a pipe bore of at most 2 m"),
         "model.pipe.outer_radius" => open(0.0, 1.0, "a pipe of at most 2 m across"),
+        "model.pipe.yield_strength" => open(0.0, 3e9, "at most the strongest steels, 3 GPa"),
         "model.wall.sign_smoothing" => open(0.0, 10.0, "small against the rotation speed"),
         "operating_point.omega" => closed(
             crate::units::from_rpm(1.0),

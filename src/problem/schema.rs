@@ -82,6 +82,8 @@ pub struct PipeSection {
     pub damping: RawQuantity,
     pub shear_factor: Option<RawQuantity>,
     pub torsion_factor: Option<RawQuantity>,
+    /// Minimum yield strength: a pressure (`"931 MPa"`) or an API 5DP grade (`"S-135"`).
+    pub yield_strength: Option<RawQuantity>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

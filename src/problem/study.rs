@@ -195,7 +195,7 @@ pub struct Study {
 }
 
 /// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
-pub const METRICS: [&str; 18] = [
+pub const METRICS: [&str; 23] = [
     "mean_rop_m_s",
     "mean_rop_m_per_h",
     "stick_slip_severity",
@@ -214,4 +214,9 @@ pub const METRICS: [&str; 18] = [
     "efficiency",
     "axial_power_share",
     "energy_balance_residual",
+    "max_von_mises_pa",
+    "max_von_mises_at_m",
+    "von_mises_safety_factor",
+    "max_compression_n",
+    "max_torque_nm",
 ];

@@ -351,6 +351,25 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
         shear_factor,
         1.0,
     )?;
+    let yield_strength = match &p.yield_strength {
+        None => None,
+        Some(RawQuantity::Text(t)) if t.chars().next().is_some_and(char::is_alphabetic) => {
+            let grade = crate::model::API_GRADES
+                .iter()
+                .find(|(name, _)| name.eq_ignore_ascii_case(t.trim()));
+            Some(grade.map(|g| g.1).ok_or_else(|| {
+                let names: Vec<&str> = crate::model::API_GRADES.iter().map(|g| g.0).collect();
+                c.fail(
+                    "model.pipe.yield_strength",
+                    format!(
+                        "`{t}` is not an API drill-pipe grade; expected one of {} or a pressure such as \"931 MPa\"",
+                        names.join(", ")
+                    ),
+                )
+            })?)
+        }
+        Some(raw) => Some(c.value("model.pipe.yield_strength", raw, Pressure)?),
+    };
     Ok(Pipe {
         density,
         youngs_modulus,
@@ -359,6 +378,7 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
         outer_radius,
         shear_factor,
         torsion_factor,
+        yield_strength,
     })
 }
 

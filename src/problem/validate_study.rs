@@ -34,6 +34,25 @@ pub(super) fn study(
         .transpose()?;
     let optimizer = optimizer(c, raw.optimizer.as_ref(), constraints.as_ref())?;
     let expect = raw.expect.as_ref().map(|e| expect(c, e)).transpose()?;
+    // The safety factor is defined against the pipe's yield strength only.
+    if model.pipe.yield_strength.is_none() {
+        let uses = |m: &str| m == "von_mises_safety_factor";
+        let at = risk
+            .iter()
+            .position(|r| uses(&r.metric))
+            .map(|i| format!("objective.risk[{i}].metric"))
+            .or_else(|| {
+                let chance = &constraints.as_ref()?.chance;
+                let i = chance.iter().position(|k| uses(&k.metric))?;
+                Some(format!("constraints.chance[{i}].metric"))
+            });
+        if let Some(key) = at {
+            return Err(c.fail(
+                &key,
+                "von_mises_safety_factor needs model.pipe.yield_strength (a pressure or an API grade such as \"S-135\")".into(),
+            ));
+        }
+    }
     if expect.is_some() && constraints.is_none() {
         return Err(c.fail(
             "expect",

@@ -44,6 +44,11 @@ impl<'a> MetricDisplay<'a> {
             "efficiency" => ("drilling efficiency", "", 1.0),
             "axial_power_share" => ("axial power share", "", 1.0),
             "energy_balance_residual" => ("energy balance residual", "", 1.0),
+            "max_von_mises_pa" => ("largest von Mises stress", "MPa", 1e-6),
+            "max_von_mises_at_m" => ("where the von Mises stress peaks", "m", 1.0),
+            "von_mises_safety_factor" => ("von Mises safety factor (yield / peak)", "", 1.0),
+            "max_compression_n" => ("largest compression", "kN", 1e-3),
+            "max_torque_nm" => ("largest torque in the string", "kN·m", 1e-3),
             other => (other, "", 1.0),
         };
         MetricDisplay { name, unit, scale }

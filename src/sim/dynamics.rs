@@ -375,6 +375,12 @@ impl<'m> Dynamics<'m> {
 
     /// Elastic radial displacement at position x (interpolated linearly between nodes), m, of the
     /// state last passed to [`Self::observe`] (or to a residual evaluation).
+    /// Elastic full-mesh displacements Φq of the last residual evaluation (node-major, 6 DOFs
+    /// per node), m and rad.
+    pub fn displacement_full(&self) -> &[f64] {
+        self.q_full.as_slice()
+    }
+
     pub fn radial_at(&self, x: f64) -> f64 {
         let h = self.model.global.element.length;
         let s = (x / h).clamp(0.0, self.model.elements() as f64);

@@ -4,12 +4,14 @@
 
 mod contact;
 mod dynamics;
+mod envelope;
 mod run;
 mod series;
 
 pub use crate::model::BitLoad;
 pub use contact::{NodeContact, wall_contact};
 pub use dynamics::{Dynamics, Effects, Observation};
+pub use envelope::StressEnvelope;
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, RunOutput, RunSettings, STEPS_PER_PERIOD,
     SimulationError, SolverStats, preloaded_equilibrium, resolving_step, run_problem, simulate,
@@ -22,4 +24,5 @@ pub use series::{CHANNELS, Channel, Frame, TimeSeries};
 /// older numerics are never reused. 2: basis per family with static corrections, pre-loaded start,
 /// step resolving the lowest torsional and axial modes, averaged bit speed, impacts by speed.
 /// 3: strain tangent refreshed after failed attempts only; metric stick_slip_severity_raw.
-pub const SIMULATOR_REVISION: u32 = 3;
+/// 4: stress envelope and its metrics (max_von_mises_pa, …); the simulated motion is unchanged.
+pub const SIMULATOR_REVISION: u32 = 4;

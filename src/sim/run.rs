@@ -7,9 +7,11 @@
 //! acceleration jumps) and coarsens again afterwards. A run that cannot go on (step below the
 //! minimum, non-finite state, divergence) stops with an error and keeps what it had recorded.
 
+use super::envelope::StressEnvelope;
 use super::series::Frame;
 use super::{Dynamics, Effects, NodeContact, Observation, TimeSeries};
 use crate::fem::Dof;
+use crate::fem::SectionStress;
 use crate::integrate::{
     AdaptiveStepper, DenseLu, ImplicitSystem, JacobianCoefficients, Newmark, NewmarkSettings,
     StepError, StepLimits,
@@ -38,6 +40,8 @@ pub struct RunSettings {
     /// without reaching `min_step` would otherwise run for ever. Default: 10⁶ per simulated
     /// second (the converged seed run takes about 14 000), at least 10⁵.
     pub max_attempts: u64,
+    /// Time from which the stress envelope is recorded (the analysis window's start), s.
+    pub envelope_from: f64,
 }
 
 impl RunSettings {
@@ -50,6 +54,7 @@ impl RunSettings {
             newmark: NewmarkSettings::default(),
             divergence_gaps: 50.0,
             max_attempts: (duration * MAX_ATTEMPTS_PER_SECOND).clamp(1e5, 1e12) as u64,
+            envelope_from: 0.0,
         }
     }
 }
@@ -157,6 +162,9 @@ pub struct RunOutput {
     pub basis: crate::rom::BasisCounts,
     /// The largest step allowed: the nominal step, or less (see [`resolving_step`]), s.
     pub max_step: f64,
+    /// Section loads and von Mises stresses along the string, extremes and means from
+    /// [`RunSettings::envelope_from`] on.
+    pub envelope: StressEnvelope,
 }
 
 /// Static equilibrium under gravity with wall contact (no motion, no bit): Newton on ∂r/∂q with
@@ -292,6 +300,8 @@ struct Recorder {
     onsets: u64,
     last: Option<Observation>,
     gap: f64,
+    envelope: StressEnvelope,
+    stress: SectionStress,
 }
 
 impl Recorder {
@@ -335,6 +345,8 @@ impl Recorder {
         }
         s.nodes_in_contact.push(obs.nodes_in_contact);
         s.contact_onsets.push(self.onsets);
+        self.envelope
+            .record(t, sys.displacement_full(), &self.stress);
         self.last = Some(obs);
     }
 }
@@ -391,12 +403,15 @@ pub fn simulate(
         probe_radial: vec![Vec::new(); settings.probes.len()],
         ..Default::default()
     };
+    let element_length = model.string.length / model.elements() as f64;
     let mut rec = Recorder {
         series,
         separated: vec![false; model.nodes()],
         onsets: 0,
         last: None,
         gap: model.string.gap(),
+        envelope: StressEnvelope::new(model.elements(), element_length, settings.envelope_from),
+        stress: SectionStress::new(&model.string, element_length),
     };
     let equilibrium = match initial {
         InitialState::Given { q, v } => Ok((q, v, 0)),
@@ -422,6 +437,7 @@ pub fn simulate(
                 final_state: (z.clone(), z),
                 basis: model.basis.counts(),
                 max_step: settings.max_step.min(resolving_step(model)),
+                envelope: rec.envelope,
             };
         }
     };
@@ -484,11 +500,16 @@ pub fn simulate(
         final_state: (nm.q.clone(), nm.v.clone()),
         basis: model.basis.counts(),
         max_step,
+        envelope: {
+            rec.envelope.finish();
+            rec.envelope
+        },
     }
 }
 
 /// Build the reduced model of a problem and run it at `op` for `duration` seconds (all effects,
-/// from static equilibrium), with the problem's nominal step and probes.
+/// from the problem's start), with the problem's nominal step and probes, and the stress envelope
+/// from the analysis window's start (the settling time, at most half the run).
 pub fn run_problem(
     problem: &crate::problem::Problem,
     op: OperatingPoint,
@@ -498,6 +519,7 @@ pub fn run_problem(
     let model = ReducedModel::new(&problem.model, problem.mesh.elements, &problem.mesh.basis)?;
     let mut settings = RunSettings::new(duration, problem.simulation.time_step);
     settings.probes = problem.simulation.probes.clone();
+    settings.envelope_from = problem.simulation.settling_time.min(0.5 * duration);
     Ok(simulate(
         &model,
         op,

@@ -106,8 +106,10 @@ pub fn model_hash(problem: &Problem) -> u64 {
 
 /// The settings of every run of a problem's study.
 fn run_settings(problem: &Problem) -> RunSettings {
-    let mut settings = RunSettings::new(problem.simulation.duration, problem.simulation.time_step);
-    settings.probes = problem.simulation.probes.clone();
+    let sim = &problem.simulation;
+    let mut settings = RunSettings::new(sim.duration, sim.time_step);
+    settings.probes = sim.probes.clone();
+    settings.envelope_from = sim.settling_time.min(0.5 * sim.duration);
     settings
 }
 
@@ -311,7 +313,7 @@ impl<'a> RobustEvaluator<'a> {
         let sim = &self.problem.simulation;
         let settling = sim.settling_time.min(0.5 * sim.duration);
         let config = MetricsConfig::new(op.omega, op.v0, model.string.borehole_radius, settling);
-        match metrics::compute(&out.series, &config) {
+        match metrics::of_run(&out, &config, model.string.pipe.yield_strength) {
             Ok(m) => SampleOutcome::Metrics(metric_map(&m)),
             Err(e) => SampleOutcome::Failed(format!("metrics: {e}")),
         }

@@ -79,11 +79,14 @@ impl PointEvaluation {
     }
 }
 
-/// Metric name → value (the keys of `summary.json`), non-finite values kept: an MSE of +∞ (the
-/// bit did not advance) is a risk of +∞, not a NaN.
+/// Metric name → value (the keys of `summary.json`), infinite values kept: an MSE of +∞ (the
+/// bit did not advance) is a risk of +∞, not a NaN. Undefined (NaN) metrics are left out.
 pub fn metric_map(m: &crate::metrics::Metrics) -> BTreeMap<String, f64> {
+    // NaN marks a metric the inputs leave undefined (the safety factor without a yield
+    // strength): it is left out rather than carried as a value that equals nothing.
     m.named_values()
         .into_iter()
+        .filter(|(_, v)| !v.is_nan())
         .map(|(k, v)| (k.to_string(), v))
         .collect()
 }

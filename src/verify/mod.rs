@@ -33,6 +33,8 @@ pub enum MetricClass {
     Mean,
     /// A stick-slip statistic (extremes and shares of time): tolerance 10 %.
     StickSlip,
+    /// An extreme of the section loads along the string (largest stress): tolerance 10 %.
+    Peak,
 }
 
 impl MetricClass {
@@ -40,7 +42,7 @@ impl MetricClass {
     pub fn tolerance(self) -> f64 {
         match self {
             MetricClass::Mean => 0.02,
-            MetricClass::StickSlip => 0.10,
+            MetricClass::StickSlip | MetricClass::Peak => 0.10,
         }
     }
 }
@@ -56,7 +58,7 @@ pub struct DecisionMetric {
 }
 
 /// The metrics the optimizer ranks operating points by.
-pub const DECISION_METRICS: [DecisionMetric; 7] = [
+pub const DECISION_METRICS: [DecisionMetric; 8] = [
     DecisionMetric {
         key: "mean_rop_m_per_h",
         class: MetricClass::Mean,
@@ -98,6 +100,12 @@ pub const DECISION_METRICS: [DecisionMetric; 7] = [
         class: MetricClass::StickSlip,
         floor: 1.0,
         get: |m| m.max_bit_speed_ratio,
+    },
+    DecisionMetric {
+        key: "max_von_mises_pa",
+        class: MetricClass::Peak,
+        floor: 1e6,
+        get: |m| m.max_von_mises_pa,
     },
 ];
 
@@ -324,6 +332,7 @@ fn run_variant(
         }
     })?;
     let mut run = RunSettings::new(v.duration, problem.simulation.time_step);
+    run.envelope_from = settings.settling;
     run.newmark.atol /= v.tolerance_divisor;
     run.newmark.rtol /= v.tolerance_divisor;
     run.newmark.newton_tol /= v.tolerance_divisor;
@@ -348,9 +357,11 @@ fn run_variant(
         settings.settling,
     );
     let metrics =
-        metrics::compute(&out.series, &config).map_err(|source| VerifyError::Metrics {
-            run: v.name,
-            source,
+        metrics::of_run(&out, &config, problem.model.pipe.yield_strength).map_err(|source| {
+            VerifyError::Metrics {
+                run: v.name,
+                source,
+            }
         })?;
     Ok((
         VerifyRun {

@@ -1,0 +1,197 @@
+//! Section loads and the von Mises stress at the outer fibre of a beam element, from its 12 DOFs,
+//! at the element's midpoint (issue 14). The strains are those of the model's own kinematics
+//! ([`super::strain_energy`], MODEL.md §2): with the generalised strains
+//! g = (u′, v′, w′, θx′, θy′, θz′, θy, θz) at the midpoint and a fibre (Y, Z) = R(cos φ, sin φ) of
+//! the outer surface R = R_ext,
+//!
+//!   a = u′ + Y(θx′θy − θz′) + Z(θy′ + θx′θz),   E_xx = a + ½(a² + (v′ − Zθx′)² + (w′ + Yθx′)²),
+//!   σ = E E_xx,   τ = κ_t G |Γ − Γ̄|,   Γ − Γ̄ = (−Zθx′ − (a − u′)θz, Yθx′ + (a − u′)θy),
+//!   σ_vM = √(σ² + 3τ²)   (von Mises for the uniaxial-plus-shear state of a beam fibre).
+//!
+//! τ is the fibre's torsional shear (for small rotations κ_t G R θx′ = T R / J); the transverse
+//! shear, which vanishes at the extreme fibres of bending of a circular section, is reported as the
+//! shear force but left out of σ_vM. The maximum over the circumference is taken at the two
+//! fibres where the bending stress is extreme (φ* and φ* + π, φ* = atan2(θy′, −θz′)) and at
+//! 8 equally spaced fibres. Resultants are the linear ones of the stiffness operator (Eq. (9)):
+//! N = EA u′ (tension > 0), T = κ_t G J θx′, M = EI √(θy′² + θz′²), Q = κ_s G A √((v′ − θz)² + (w′ + θy)²).
+
+use super::{BeamElement, ELEMENT_DOF, STRAIN_VARS, StrainEnergy};
+use crate::model::{Drillstring, Section};
+use nalgebra::SMatrix;
+use std::f64::consts::PI;
+
+/// Loads and the largest von Mises stress of one section.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SectionLoads {
+    /// Axial force N, N (tension > 0).
+    pub axial_force: f64,
+    /// Torque T, N·m.
+    pub torque: f64,
+    /// Bending moment magnitude M, N·m.
+    pub bending_moment: f64,
+    /// Transverse shear force magnitude Q, N.
+    pub shear_force: f64,
+    /// Largest von Mises stress over the outer fibre, Pa.
+    pub von_mises: f64,
+}
+
+/// The midpoint strain operator of an element and the section data the stresses need.
+#[derive(Debug, Clone)]
+pub struct SectionStress {
+    /// g = G d at the element's midpoint, G by its non-zeros (row, column, value): 28 of 96.
+    operator: Vec<(usize, usize, f64)>,
+    law: StrainEnergy,
+    outer_radius: f64,
+    polar_moment: f64,
+    /// (cos φ, sin φ) of the equally spaced fibres.
+    fibres: [(f64, f64); FIBRES],
+}
+
+const FIBRES: usize = 8;
+
+impl SectionStress {
+    /// For elements of length `length` of `string`'s pipe.
+    pub fn new(string: &Drillstring, length: f64) -> Self {
+        let section = Section::of(string);
+        let element = BeamElement::new(length, section);
+        let n = element.interpolation(0.5 * length);
+        let mut operator = SMatrix::<f64, STRAIN_VARS, ELEMENT_DOF>::zeros();
+        for k in 0..6 {
+            operator.set_row(k, &n.derivative.row(k));
+        }
+        operator.set_row(6, &n.value.row(4));
+        operator.set_row(7, &n.value.row(5));
+        let nonzeros = (0..STRAIN_VARS)
+            .flat_map(|i| (0..ELEMENT_DOF).map(move |j| (i, j)))
+            .filter(|&(i, j)| operator[(i, j)] != 0.0)
+            .map(|(i, j)| (i, j, operator[(i, j)]))
+            .collect();
+        SectionStress {
+            operator: nonzeros,
+            law: StrainEnergy::of(string),
+            outer_radius: string.pipe.outer_radius,
+            polar_moment: section.polar_moment,
+            fibres: std::array::from_fn(|k| {
+                let phi = 2.0 * PI * k as f64 / FIBRES as f64;
+                (phi.cos(), phi.sin())
+            }),
+        }
+    }
+
+    /// The loads at the midpoint of an element whose DOFs (node 1 then node 2, each
+    /// (u, v, w, θx, θy, θz), elastic part) are `d`.
+    pub fn loads(&self, d: &[f64]) -> SectionLoads {
+        let mut g = [0.0; STRAIN_VARS];
+        for &(i, j, v) in &self.operator {
+            g[i] += v * d[j];
+        }
+        let (du, dv, dw, dtx, dty, dtz, ty, tz) = (g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7]);
+        let l = &self.law;
+        // A fibre by (cos φ, sin φ): no trigonometry in the time-step loop.
+        let stress_at = |(c, s): (f64, f64)| {
+            let (y, z) = (self.outer_radius * c, self.outer_radius * s);
+            let bend = y * (dtx * ty - dtz) + z * (dty + dtx * tz);
+            let a = du + bend;
+            let exx = a + 0.5 * (a * a + (dv - z * dtx).powi(2) + (dw + y * dtx).powi(2));
+            let sigma = l.youngs_modulus * exx;
+            let (gy, gz) = (-z * dtx - bend * tz, y * dtx + bend * ty);
+            let tau = l.torsion_factor * l.shear_modulus * (gy * gy + gz * gz).sqrt();
+            (sigma * sigma + 3.0 * tau * tau).sqrt()
+        };
+        // φ* = atan2(θy′, −θz′) and φ* + π, by the unit vector of the curvature.
+        let k = (dty * dty + dtz * dtz).sqrt();
+        let extreme = if k > 0.0 {
+            (-dtz / k, dty / k)
+        } else {
+            (1.0, 0.0)
+        };
+        let mut von_mises = stress_at(extreme).max(stress_at((-extreme.0, -extreme.1)));
+        for &fibre in &self.fibres {
+            von_mises = von_mises.max(stress_at(fibre));
+        }
+        let (e, gm) = (l.youngs_modulus, l.shear_modulus);
+        SectionLoads {
+            axial_force: e * l.area * du,
+            torque: l.torsion_factor * gm * self.polar_moment * dtx,
+            bending_moment: e * l.second_moment * dty.hypot(dtz),
+            shear_force: l.shear_factor * gm * l.area * (dv - tz).hypot(dw + ty),
+            von_mises,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::test_support::seed_string;
+
+    /// Element DOFs of a uniform field: u = ε x, θx = κ x (linear), no bending.
+    fn axial_and_twist(length: f64, strain: f64, twist: f64) -> [f64; 12] {
+        let mut d = [0.0; 12];
+        d[6] = strain * length;
+        d[9] = twist * length;
+        d
+    }
+
+    #[test]
+    fn pure_tension_and_pure_torsion_match_the_closed_forms() {
+        let s = seed_string();
+        let (h, eps, kappa) = (1.0 / 3.0, 1e-4, 2e-3);
+        let st = SectionStress::new(&s, h);
+        let sec = Section::of(&s);
+        let (e, r) = (s.pipe.youngs_modulus, s.pipe.outer_radius);
+        // Tension: N = EAε, σ = Eε(1 + ε/2) (Green–Lagrange), no shear.
+        let t = st.loads(&axial_and_twist(h, eps, 0.0));
+        assert!((t.axial_force / (sec.ea * eps) - 1.0).abs() < 1e-12);
+        assert!((t.von_mises / (e * (eps + 0.5 * eps * eps)) - 1.0).abs() < 1e-12);
+        // Torsion: τ = κ_t G R κ = T R / J at the outer fibre; σ_vM = √3 τ (plus the ½(Rκ)²
+        // axial strain of the helix fibres, 2e-8 relative here).
+        let k = st.loads(&axial_and_twist(h, 0.0, kappa));
+        let tau = s.pipe.torsion_factor * sec.shear_modulus * r * kappa;
+        assert!((k.torque * r / sec.polar_moment / tau - 1.0).abs() < 1e-12);
+        assert!(
+            (k.von_mises / (3f64.sqrt() * tau) - 1.0).abs() < 1e-6,
+            "{}",
+            k.von_mises
+        );
+    }
+
+    #[test]
+    fn pure_bending_gives_m_r_over_i_at_the_extreme_fibre_whatever_the_plane() {
+        let s = seed_string();
+        let h = 0.5;
+        let st = SectionStress::new(&s, h);
+        let sec = Section::of(&s);
+        // Constant curvature κ in a plane at angle α: θy′ = κ sin α, θz′ = κ cos α with the
+        // Euler–Bernoulli fields v = ½κ cos α x², w = −½κ sin α x² (θz = v′, θy = −w′).
+        let kappa = 1e-3;
+        for alpha in [0.0f64, 0.3, 1.0, 2.5] {
+            let (c, sn) = (alpha.cos(), alpha.sin());
+            let mut d = [0.0; 12];
+            // node 2 at x = h: v, w, θy, θz
+            d[7] = 0.5 * kappa * c * h * h;
+            d[8] = -0.5 * kappa * sn * h * h;
+            d[10] = kappa * sn * h;
+            d[11] = kappa * c * h;
+            let l = st.loads(&d);
+            let m = sec.ei * kappa;
+            assert!(
+                (l.bending_moment / m - 1.0).abs() < 1e-9,
+                "α {alpha}: M {}",
+                l.bending_moment
+            );
+            let sigma = m * s.pipe.outer_radius / sec.second_moment;
+            // σ_vM = |E E_xx| at the extreme fibre: E(Rκ + ½(Rκ)² + ½ v′² terms), within 1e-3.
+            assert!(
+                (l.von_mises / sigma - 1.0).abs() < 1e-3,
+                "α {alpha}: {}",
+                l.von_mises / sigma
+            );
+            assert!(
+                l.shear_force < 1e-6 * m,
+                "no shear in pure bending: {}",
+                l.shear_force
+            );
+        }
+    }
+}

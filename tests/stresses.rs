@@ -1,0 +1,109 @@
+//! Section loads and von Mises stresses along the string (issue 14, item 1), against closed forms:
+//! a straight, weightless, undamped string drilling at its steady state carries the WOB as a
+//! uniform compression and the TOB as a uniform torque, so every section has
+//! σ = E(ε + ½ε² + ½(Rκ)²), ε = −WOB/EA, κ = TOB/(κ_t G J), τ = κ_t G R κ, σ_vM = √(σ² + 3τ²).
+
+mod common;
+
+use drillopt::metrics::{self, MetricsConfig};
+use drillopt::model::OperatingPoint;
+use drillopt::model::bit::xi;
+use drillopt::problem::Problem;
+use drillopt::rom::ReducedModel;
+use drillopt::sim::{Effects, InitialState, RunSettings, simulate};
+use std::path::Path;
+
+fn weightless_undamped_seed(extra_pipe: &str) -> Problem {
+    let text = std::fs::read_to_string(common::SEED)
+        .unwrap()
+        .replace("gravity = \"9.81 m/s^2\"", "gravity = 0")
+        .replace("damping = \"0.03 1/s\"", "damping = 0")
+        .replace("friction = 1e-5 ", "friction = 0 ")
+        .replace("[model.pipe]", &format!("[model.pipe]\n{extra_pipe}"));
+    let mut p = Problem::from_toml(&text, Path::new("stress.toml")).unwrap();
+    p.mesh.elements = 30;
+    p.mesh.basis = common::small_basis();
+    p
+}
+
+#[test]
+fn steady_drilling_stresses_match_the_closed_form_along_the_whole_string() {
+    let p = weightless_undamped_seed("yield_strength = \"S-135\"");
+    assert_eq!(p.model.wall.friction, 0.0);
+    assert_eq!(p.model.gravity, 0.0);
+    let model = ReducedModel::new(&p.model, p.mesh.elements, &p.mesh.basis).unwrap();
+    let op = OperatingPoint {
+        omega: 2.0 * std::f64::consts::PI,
+        v0: 5.0 / 3600.0,
+    };
+    // 1 ms: the steady state is unstable (velocity-weakening bit, no damping), and the stick-slip
+    // that grows out of it moves the torque by 1.7 % within 50 ms; the first millisecond is the
+    // steady state to 1e-4.
+    let out = simulate(
+        &model,
+        op,
+        Effects::ALL,
+        &RunSettings::new(1e-3, p.simulation.time_step),
+        InitialState::Preloaded,
+        |_| {},
+    );
+    assert!(out.error.is_none());
+    // Closed form from the raw Table 1 numbers (common::Table1) and the seed bit law.
+    let wob = 250e3 * (1.0 - (-180.0f64 * op.v0).exp());
+    let tob = 0.04 * wob * xi(op.omega).0;
+    let (e, g) = (common::Table1::E, common::Table1::shear_modulus());
+    let (a, r) = (common::Table1::area(), common::Table1::R_EXT);
+    let j = 2.0 * common::Table1::inertia();
+    let kt = p.model.pipe.torsion_factor;
+    let eps = -wob / (e * a);
+    let kappa = tob / (kt * g * j);
+    let sigma = e * (eps + 0.5 * eps * eps + 0.5 * (r * kappa).powi(2));
+    let tau = kt * g * r * kappa;
+    let von_mises = (sigma * sigma + 3.0 * tau * tau).sqrt();
+    let env = &out.envelope;
+    assert_eq!(env.position_m.len(), 30);
+    for (k, s) in env.max_von_mises_pa.iter().enumerate() {
+        assert!(
+            (s / von_mises - 1.0).abs() < 1e-4,
+            "element {k}: {s} Pa against {von_mises} Pa"
+        );
+        assert!((env.max_compression_n[k] / wob - 1.0).abs() < 1e-4);
+        assert!((env.max_torque_nm[k] / tob - 1.0).abs() < 1e-4);
+    }
+    // The metrics, with the S-135 grade's 135 ksi = 930.8 MPa.
+    let config = MetricsConfig::new(op.omega, op.v0, p.model.borehole_radius, 0.0);
+    let m = metrics::of_run(&out, &config, p.model.pipe.yield_strength).unwrap();
+    assert!((m.max_von_mises_pa / von_mises - 1.0).abs() < 1e-4);
+    assert!(
+        (m.von_mises_safety_factor - 135.0 * 6.894757293168e6 / m.max_von_mises_pa).abs() < 1e-9
+    );
+    assert!((0.0..=35.0).contains(&m.max_von_mises_at_m));
+}
+
+#[test]
+fn yield_strength_is_a_pressure_or_an_api_grade() {
+    let p = weightless_undamped_seed("yield_strength = \"g-105\"");
+    assert!((p.model.pipe.yield_strength.unwrap() - 105.0 * 6.894757293168e6).abs() < 1e-3);
+    let p = weightless_undamped_seed("yield_strength = \"800 MPa\"");
+    assert_eq!(p.model.pipe.yield_strength, Some(800e6));
+    let text = std::fs::read_to_string(common::SEED)
+        .unwrap()
+        .replace("[model.pipe]", "[model.pipe]\nyield_strength = \"Q-125\"");
+    let err = Problem::from_toml(&text, Path::new("stress.toml")).unwrap_err();
+    assert_eq!(err.key(), Some("model.pipe.yield_strength"));
+    assert!(err.to_string().contains("S-135"), "{err}");
+    // Without a yield strength the safety factor is not defined.
+    assert_eq!(common::seed().model.pipe.yield_strength, None);
+}
+
+#[test]
+fn the_safety_factor_as_a_risk_needs_a_yield_strength() {
+    let risk =
+        "\n[objective]\n[[objective.risk]]\nmetric = \"von_mises_safety_factor\"\nweight = 1.0\n";
+    let seed = std::fs::read_to_string(common::SEED).unwrap();
+    let err = Problem::from_toml(&format!("{seed}{risk}"), Path::new("stress.toml")).unwrap_err();
+    assert_eq!(err.key(), Some("objective.risk[0].metric"));
+    assert!(err.to_string().contains("yield_strength"), "{err}");
+    let with_grade = seed.replace("[model.pipe]", "[model.pipe]\nyield_strength = \"S-135\"");
+    Problem::from_toml(&format!("{with_grade}{risk}"), Path::new("stress.toml")).unwrap();
+}
