@@ -75,6 +75,7 @@ fn uncertain(
     let seed = seed(c, "uncertain.seed", u.seed, 0)?;
     let mut params: Vec<UncertainParameter> = Vec::new();
     for (i, p) in u.parameter.iter().enumerate() {
+        let before = c.errors_recorded();
         let at = |k: &str| format!("uncertain.parameter[{i}].{k}");
         let key = ParameterKey::resolve(&p.key, model).ok_or_else(|| {
             let names = ParameterKey::available(model);
@@ -149,6 +150,9 @@ fn uncertain(
                 ));
             }
         };
+        if c.errors_recorded() > before {
+            continue; // a value of the law was refused where it was read
+        }
         law.validate().map_err(|m| c.fail(&at("law"), m))?;
         // A law whose bulk leaves the admissible range would make samples fail, not the
         // optimisation: refuse it here (normal laws are not truncated).
@@ -312,7 +316,8 @@ fn range(
     }
     let lo = c.value(&format!("{key}[0]"), &raw[0], dim)?;
     let hi = c.value(&format!("{key}[1]"), &raw[1], dim)?;
-    if !(lo > 0.0 && hi > lo) {
+    let read = !lo.is_nan() && !hi.is_nan(); // else refused where read
+    if read && !(lo > 0.0 && hi > lo) {
         return Err(c.fail(
             key,
             format!(
@@ -479,7 +484,12 @@ fn optimizer(
         Some(s) if s.len() == 2 => {
             let w = c.positive("optimizer.start[0]", &s[0], AngularVelocity)?;
             let v = c.positive("optimizer.start[1]", &s[1], Velocity)?;
-            if let Some(k) = constraints
+            let known = |x: &[f64]| x.iter().all(|x| !x.is_nan());
+            if !known(&[w, v]) {
+                // Refused where read; the builders need not see it again.
+                None
+            } else if let Some(k) = constraints
+                && known(&[k.omega[0], k.omega[1], k.v0[0], k.v0[1]])
                 && (!(k.omega[0]..=k.omega[1]).contains(&w) || !(k.v0[0]..=k.v0[1]).contains(&v))
             {
                 return Err(c.fail(
@@ -488,8 +498,9 @@ fn optimizer(
                         "must lie inside the bounds constraints.omega and constraints.v0, got ({w} rad/s, {v} m/s)"
                     ),
                 ));
+            } else {
+                Some([w, v])
             }
-            Some([w, v])
         }
         Some(s) => {
             return Err(c.fail(
