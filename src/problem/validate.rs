@@ -614,7 +614,8 @@ fn operating_point(c: &Checker, o: &OperatingPointSection) -> Result<OperatingPo
             &o.omega,
             Dimension::AngularVelocity,
         )?,
-        v0: c.positive("operating_point.v0", &o.v0, Dimension::Velocity)?,
+        // V0 = 0 is off-bottom rotation, a normal drilling state.
+        v0: c.non_negative("operating_point.v0", &o.v0, Dimension::Velocity)?,
     })
 }
 
