@@ -8,6 +8,7 @@ use crate::model::{
     BasisSpec, BitRock, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec, Pipe,
     Simulation, Start, WallContact, cowper_shear_factor,
 };
+use crate::units::show;
 use serde::Deserialize;
 use std::cell::RefCell;
 use std::path::Path;
@@ -168,7 +169,7 @@ impl<'a> Checker<'a> {
     }
 
     /// Record a refusal and carry on: the value reads as NaN.
-    fn record(&self, key: &str, message: String) -> f64 {
+    pub(super) fn record(&self, key: &str, message: String) -> f64 {
         self.errors.borrow_mut().push(KeyError {
             key: key.to_string(),
             message,
@@ -236,8 +237,9 @@ impl<'a> Checker<'a> {
             Ok(self.record(
                 spec.key,
                 format!(
-                    "must be {}, got {v} {}",
+                    "must be {}, got {} {}",
                     spec.range.describe(spec.dimension),
+                    show(v),
                     spec.dimension.si_unit()
                 ),
             ))
@@ -265,7 +267,12 @@ impl<'a> Checker<'a> {
         match super::limits::range_of(key) {
             Some(r) if !v.is_nan() && !r.contains(v) => self.record(
                 key,
-                format!("must be {}, got {v} {}", r.describe(dim), dim.si_unit()),
+                format!(
+                    "must be {}, got {} {}",
+                    r.describe(dim),
+                    show(v),
+                    dim.si_unit()
+                ),
             ),
             _ => v,
         }
@@ -286,7 +293,7 @@ impl<'a> Checker<'a> {
             Ok(v)
         } else {
             let unit = dim.si_unit();
-            Ok(self.record(key, format!("must be {allowed}, got {v} {unit}")))
+            Ok(self.record(key, format!("must be {allowed}, got {} {unit}", show(v))))
         }
     }
 
