@@ -1,5 +1,6 @@
 //! `drillopt compare` reports a point outside the bounds or beyond the depth-of-cut limit as
-//! infeasible, saying why, and refuses points written without units.
+//! infeasible, saying why, and refuses points written without units; `evaluations.csv` has a row
+//! per (point, sample).
 
 use serde_json::Value;
 use std::process::Command;
@@ -45,6 +46,17 @@ fn compare_calls_points_outside_the_constraints_infeasible() {
     let (ok, why) = verdict(1);
     assert!(!ok && why.contains("depth of cut"), "{why}");
     assert_eq!(verdict(2), (true, String::new()));
+
+    // Issue 13 item 15: evaluations.csv beside compare.json, one row per (point, sample), the
+    // verdicts as in the JSON.
+    let csv = std::fs::read_to_string(dir.path().join("evaluations.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 1 + 3, "{csv}");
+    assert_eq!(rows[0][..3], ["omega_rpm", "v0_m_per_h", "sample"]);
+    let feasible = rows[0].iter().position(|h| *h == "feasible").unwrap();
+    let first = |r: &[&str]| (r[0].to_string(), r[1].to_string(), r[feasible].to_string());
+    assert_eq!(first(&rows[1]), ("200".into(), "30".into(), "false".into()));
+    assert_eq!(first(&rows[3]), ("60".into(), "5".into(), "true".into()));
 
     let out = run(&["60,5"]);
     assert!(!out.status.success());

@@ -927,17 +927,15 @@ fn a_non_positive_rotation_speed_is_refused() {
     );
 }
 
+/// Issue 13 item 13: V0 = 0 is off-bottom rotation, accepted; a negative V0 is refused.
 #[test]
-fn a_non_positive_rate_of_penetration_is_refused() {
-    refused(
-        &set("operating_point", "v0", "\"0 m/h\""),
-        "operating_point.v0",
-        &["> 0"],
-    );
+fn a_negative_rate_of_penetration_is_refused_and_zero_is_off_bottom() {
+    let p = accepted(&set("operating_point", "v0", "\"0 m/h\""));
+    assert_eq!(p.operating_point.v0, 0.0);
     refused(
         &set("operating_point", "v0", "-1e-3"),
         "operating_point.v0",
-        &["> 0", "m/s"],
+        &[">= 0", "m/s"],
     );
 }
 

@@ -15,15 +15,18 @@ use std::path::{Path, PathBuf};
 /// The operating point and window of a one-point command (`simulate`, `verify`).
 #[derive(Debug, Args)]
 pub struct PointArgs {
+    // `allow_hyphen_values`: a negative value such as `-1m/h` reaches our parser, which refuses
+    // it naming the key and the admissible range, instead of clap reading it as a flag.
     /// Rotation speed, e.g. `60rpm` or `6.28` (rad/s) [default: the problem's].
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub omega: Option<String>,
-    /// Imposed axial velocity, e.g. `5m/h` or `0.00139` (m/s) [default: the problem's].
-    #[arg(long)]
+    /// Imposed axial velocity, e.g. `5m/h` or `0.00139` (m/s); `0` is off-bottom rotation
+    /// [default: the problem's].
+    #[arg(long, allow_hyphen_values = true)]
     pub v0: Option<String>,
     /// Simulated duration, e.g. `90` or `2s` [default: simulation.duration]; the analysis window
     /// starts after simulation.settling_time (at most half the duration).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub duration: Option<String>,
 }
 
@@ -50,15 +53,21 @@ pub(super) fn parse_override(
     match text {
         None => Ok(default),
         Some(t) => {
-            let v = dim.parse(t).with_context(|| flag.to_string())?;
-            anyhow::ensure!(v.is_finite() && v > 0.0, "{flag} must be > 0, got {t}");
             let key = match flag {
                 "--omega" => "operating_point.omega",
                 "--v0" => "operating_point.v0",
                 _ => "simulation.duration",
             };
+            let v = dim
+                .parse(t)
+                .with_context(|| format!("{flag} (key `{key}`)"))?;
+            // Every override key has a range (limits::range_of); each excludes NaN and ±∞.
             if let Some(r) = crate::problem::limits::range_of(key) {
-                anyhow::ensure!(r.contains(v), "{flag} must be {}, got {t}", r.describe(dim));
+                anyhow::ensure!(
+                    r.contains(v),
+                    "{flag} (key `{key}`) must be {}, got {t}",
+                    r.describe(dim)
+                );
             }
             Ok(v)
         }
@@ -66,7 +75,8 @@ pub(super) fn parse_override(
 }
 
 /// The operating point and duration of a one-point command: the problem's, or the overrides
-/// `--omega`, `--v0`, `--duration` (each with its unit, > 0).
+/// `--omega`, `--v0`, `--duration` (each with its unit, within the key's admissible range: V0 may
+/// be 0, off-bottom rotation).
 pub(super) fn point_and_duration(
     problem: &Problem,
     args: &PointArgs,

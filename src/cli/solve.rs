@@ -76,6 +76,7 @@ fn write_report(
 ) -> anyhow::Result<()> {
     let json = SolutionJson::of(problem, problem_file, outcome, work, check);
     report::write_json_atomic(&out.join("solution.json"), &json)?;
+    report::write_evaluations_csv(out, problem, &outcome.evaluations)?;
     super::study_plots::solve_plots(problem, out, outcome)?;
     Ok(())
 }

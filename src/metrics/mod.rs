@@ -29,6 +29,8 @@ mod time_average;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_off_bottom;
 
 pub use batch_means::{BATCHES, BatchInterval, batch_means};
 pub use error::MetricsError;
@@ -47,7 +49,7 @@ pub const ENERGY_FLOOR_J: f64 = 1e-12;
 pub struct MetricsConfig {
     /// Imposed rotation speed Ω at the top, rad/s; > 0.
     pub omega: f64,
-    /// Imposed axial velocity V0 at the top, m/s; > 0.
+    /// Imposed axial velocity V0 at the top, m/s; ≥ 0 (0: off-bottom rotation, see [`Metrics`]).
     pub v0: f64,
     /// Borehole radius R_bh, m; > 0. The bit area is A_b = π R_bh².
     pub borehole_radius: f64,
@@ -95,7 +97,13 @@ impl MetricsConfig {
             }
         };
         positive("omega", self.omega)?;
-        positive("v0", self.v0)?;
+        if !(self.v0.is_finite() && self.v0 >= 0.0) {
+            return Err(MetricsError::InvalidConfig {
+                field: "v0",
+                value: self.v0,
+                expected: "expected a finite value >= 0",
+            });
+        }
         positive("borehole_radius", self.borehole_radius)?;
         if !(self.settling_time.is_finite() && self.settling_time >= 0.0) {
             return Err(MetricsError::InvalidConfig {
@@ -134,6 +142,15 @@ impl MetricsConfig {
 /// are added: on a 10 s seed window, SSI 1.30 / 2.75 / 2.44 / 2.99 for 3, 3 + static correction,
 /// 8 + static correction and 16 + static correction torsional modes, against 0.95 / 1.31 / 1.03 /
 /// 1.11 for the 10 ms average (README, "Converged metrics").
+///
+/// # Off-bottom rotation (V0 = 0)
+/// Every metric is defined at V0 = 0: the mean ROP is the bit's elastic axial drift (≈ 0), the
+/// stick-slip statistics are relative to Ω as always, `bit_bounce_fraction` is the share of time
+/// the bit is off bottom, 1 by definition (the WOB of the elastic axial motion is round-off, about
+/// 1e-9 N on the tiny string, and its sign would decide the share), `mse_pa` is +∞ (no rock is cut, whatever the drift),
+/// `axial_velocity_fluctuation` is +∞ (0 if the bit is at rest axially: there is no feed to
+/// compare with), `efficiency` and `axial_power_share` are the same ratios (≈ 0: the bit does
+/// almost no work), and the depth of cut 2π V0/Ω of the constraints is 0.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Metrics {
     /// Mean rate of penetration (u_bit(t_end) − u_bit(t_s)) / T_w, m/s.
@@ -151,10 +168,10 @@ pub struct Metrics {
     /// Peak bit speed ratio max ω̄ / Ω of the averaged bit speed, dimensionless.
     pub max_bit_speed_ratio: f64,
     /// Share of time in [0, 1] with the bit off bottom (weight on bit = 0; tested as ≤ 0 so that a
-    /// rounding-level negative value also counts), dimensionless.
+    /// rounding-level negative value also counts), dimensionless; 1 at V0 = 0 (off-bottom rotation).
     pub bit_bounce_fraction: f64,
     /// Time-weighted standard deviation of the bit axial velocity u̇_bit divided by V0,
-    /// dimensionless.
+    /// dimensionless; at V0 = 0, +∞ (0 for a bit at rest axially).
     pub axial_velocity_fluctuation: f64,
     /// Wall impacts over all nodes per second (touch-downs after a separation of more than 1 % of
     /// the gap at a normal speed of at least `sim::IMPACT_SPEED` = 1 cm/s), 1/s.
@@ -172,7 +189,7 @@ pub struct Metrics {
     pub mean_tob_nm: f64,
     /// Mechanical specific energy (Teale) WOB/A_b + 2π N TOB / (A_b ROP), Pa (= J/m³), with the
     /// mean WOB and TOB, N = Ω/(2π) in rev/s, A_b = π R_bh² and ROP the mean ROP in m/s.
-    /// +∞ when the mean ROP is ≤ 0 (the bit did not advance); serde_json writes it as `null`.
+    /// +∞ when V0 = 0 or the mean ROP is ≤ 0 (no rock cut); serde_json writes it as `null`.
     pub mse_pa: f64,
     /// Drilling efficiency: energy delivered to the rock over the energy the top drive spent on
     /// the window, net of what the string stored, W_rock / (W_top − ΔE), with W_rock =
@@ -308,7 +325,8 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
     let mean_wob = ta::mean(t, &series.weight_on_bit[i0..]);
     let mean_tob = ta::mean(t, &series.torque_on_bit[i0..]);
     let bit_area = PI * config.borehole_radius * config.borehole_radius;
-    let mse = if mean_rop > 0.0 {
+    // No feed, no rock cut: an off-bottom window's elastic axial motion is not drilling.
+    let mse = if config.v0 > 0.0 && mean_rop > 0.0 {
         let revs_per_s = omega / (2.0 * PI);
         mean_wob / bit_area + 2.0 * PI * revs_per_s * mean_tob / (bit_area * mean_rop)
     } else {
@@ -347,8 +365,17 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
         },
         stick_fraction: ta::share(t, theta_dot, |v| v < stick_speed),
         max_bit_speed_ratio: max_spin / omega,
-        bit_bounce_fraction: ta::share(t, &series.weight_on_bit[i0..], |v| v <= 0.0),
-        axial_velocity_fluctuation: ta::std_dev(t, &series.bit_velocity[i0..]) / config.v0,
+        // Off-bottom rotation is off bottom by definition: the WOB of its elastic axial motion
+        // is round-off (1e-9 N on the tiny string), and its sign would decide the share.
+        bit_bounce_fraction: if config.v0 > 0.0 {
+            ta::share(t, &series.weight_on_bit[i0..], |v| v <= 0.0)
+        } else {
+            1.0
+        },
+        axial_velocity_fluctuation: relative_to_feed(
+            ta::std_dev(t, &series.bit_velocity[i0..]),
+            config.v0,
+        ),
         impacts_per_s: onsets / window,
         peak_wall_force_n: ta::max(&series.wall_force_max[i0..]),
         contact_impulse_ns: ta::integral(t, &series.wall_force_total[i0..]),
@@ -365,6 +392,16 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
         max_compression_n: f64::NAN,
         max_torque_nm: f64::NAN,
     })
+}
+
+/// A fluctuation `std` (m/s) relative to the feed `v0`: std / V0; at V0 = 0 (off bottom), 0 for
+/// a bit at rest axially and +∞ for any axial motion, as x/0 in the extended reals.
+fn relative_to_feed(std: f64, v0: f64) -> f64 {
+    match (v0 > 0.0, std > 0.0) {
+        (true, _) => std / v0,
+        (false, false) => 0.0,
+        (false, true) => f64::INFINITY,
+    }
 }
 
 /// The bit speed averaged over the last τ at each sample from `i0` on:

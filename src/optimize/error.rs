@@ -43,7 +43,8 @@ pub enum OptimizeError {
     /// The box and the linear constraints admit no common point.
     #[error(
         "the feasible set is empty: the box and the linear constraints a·x ≤ b have no common \
-         point (the best point found violates them by {violation:.3e}; constraint row {row:?})"
+         point (the best point found violates them by {violation:.3e}{})",
+        row.map_or(String::new(), |i| format!("; linear constraint {i} cannot be met"))
     )]
     Infeasible {
         /// Smallest achievable violation (a distance in variable units; see

@@ -32,7 +32,11 @@ pub fn range_of(key: &str) -> Option<Range> {
             crate::units::from_rpm(1000.0),
             "1 to 1000 rpm: the stick-slip statistics are relative to Ω",
         ),
-        "operating_point.v0" => open(0.0, crate::units::from_m_per_h(1000.0), "at most 1000 m/h"),
+        "operating_point.v0" => closed(
+            0.0,
+            crate::units::from_m_per_h(1000.0),
+            "at most 1000 m/h; 0 is off-bottom rotation",
+        ),
         "simulation.duration" => open(0.0, 86_400.0, "at most a day of simulated time"),
         "simulation.time_step" => closed(1e-6, 1.0, "a nominal step between 1 µs and 1 s"),
         _ => return None,
@@ -64,6 +68,9 @@ mod tests {
         }
         assert!(!range_of("model.length").unwrap().contains(0.0));
         assert!(range_of("model.wall.friction").unwrap().contains(0.0));
+        // Off-bottom rotation (issue 13 item 13); a negative feed is refused.
+        assert!(range_of("operating_point.v0").unwrap().contains(0.0));
+        assert!(!range_of("operating_point.v0").unwrap().contains(-1e-9));
         assert_eq!(range_of("mesh.elements"), None);
     }
 }

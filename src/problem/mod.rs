@@ -2,7 +2,8 @@
 //!
 //! Two layers: [`schema`] mirrors the file (serde, unknown keys rejected), [`validate`] checks every
 //! value and builds the SI runtime structs of [`crate::model`]. Every error names the file and the
-//! dotted key (`model.pipe.outer_radius`) and says what is allowed.
+//! dotted key (`model.pipe.outer_radius`) and says what is allowed; every refusal of a file is
+//! reported in one pass (unknown keys, units, ranges), one line each.
 
 mod error;
 pub mod limits;
@@ -12,7 +13,7 @@ mod validate;
 mod validate_study;
 
 pub use crate::units::{self, Dimension, UnitError};
-pub use error::ProblemError;
+pub use error::{KeyError, ProblemError};
 
 use crate::model::{Drillstring, Mesh, OperatingPoint, Simulation};
 use std::path::{Path, PathBuf};
@@ -49,8 +50,14 @@ impl Problem {
 
     /// Parse and validate TOML text; `path` is used for messages and the default name.
     pub fn from_toml(text: &str, path: &Path) -> Result<Self, ProblemError> {
-        let raw = validate::parse(text, path)?;
-        let mut problem = validate::problem(raw, path)?;
+        let (raw, shape) = validate::parse(text, path)?;
+        let Some(raw) = raw else {
+            return Err(ProblemError::Invalid {
+                file: path.to_path_buf(),
+                errors: shape,
+            });
+        };
+        let mut problem = validate::problem(raw, path, shape)?;
         problem.text = text.to_string();
         Ok(problem)
     }

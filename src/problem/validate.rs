@@ -1,5 +1,6 @@
 //! From [`ProblemFile`] to [`Problem`]: every value parsed to SI and checked against its legal range.
 
+use super::error::KeyError;
 use super::schema::*;
 use super::{Dimension, Problem, ProblemError};
 use crate::model::bit::{BIT_LAWS, bit_law};
@@ -7,6 +8,9 @@ use crate::model::{
     BasisSpec, BitRock, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec, Pipe,
     Simulation, Start, WallContact, cowper_shear_factor,
 };
+use crate::units::show;
+use serde::Deserialize;
+use std::cell::RefCell;
 use std::path::Path;
 
 /// Default smoothing of the friction sign, rad/s: small against any drilling speed (≥ 10 rpm ≈ 1 rad/s).
@@ -14,33 +18,105 @@ pub const DEFAULT_SIGN_SMOOTHING: f64 = 1e-3;
 /// Standard gravity, m/s², used when the file omits `model.gravity`.
 pub const STANDARD_GRAVITY: f64 = 9.81;
 
-/// Deserialize the file, reporting the dotted path of any key that has the wrong shape or is unknown.
-pub(super) fn parse(text: &str, file: &Path) -> Result<ProblemFile, ProblemError> {
+/// Most shape errors reported at once: each one the parse meets is recorded and its key taken
+/// out of the table before parsing again, up to this many.
+const MAX_SHAPE_ERRORS: usize = 100;
+
+/// Deserialize the file, reporting the dotted path of every key that is unknown or has the wrong
+/// shape. An unknown key, or a table key of the wrong type, is recorded and removed, and the parse
+/// runs again, so that one pass reports them all; a missing required key or a mistyped array
+/// element ends the pass. Returns the errors met on the way, and the file when it could be read
+/// with only unknown keys taken out (its values are then checked too, in the same pass).
+pub(super) fn parse(
+    text: &str,
+    file: &Path,
+) -> Result<(Option<ProblemFile>, Vec<KeyError>), ProblemError> {
+    // The document parser, for line and column of syntax errors; then a table to edit.
     let de = toml::Deserializer::parse(text).map_err(|e| syntax(text, file, &e))?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        let message = inner.message().to_string();
-        if path == "." || path.is_empty() {
-            // A missing or unknown top-level table: toml's message already names it.
-            let key = missing_or_unknown_key(&message).unwrap_or_else(|| "(top level)".into());
-            ProblemError::Invalid {
-                file: file.to_path_buf(),
-                key,
-                message,
+    let mut table = match toml::Table::deserialize(de) {
+        Ok(t) => toml::Value::Table(t),
+        Err(e) => return Err(syntax(text, file, &e)),
+    };
+    let mut errors: Vec<KeyError> = Vec::new();
+    let mut removed: Vec<String> = Vec::new();
+    let mut only_unknown = true;
+    while errors.len() < MAX_SHAPE_ERRORS {
+        let e = match serde_path_to_error::deserialize::<_, ProblemFile>(table.clone()) {
+            Ok(raw) if only_unknown => return Ok((Some(raw), errors)),
+            Ok(_) => break,
+            Err(e) => e,
+        };
+        let segments: Vec<String> = e
+            .path()
+            .iter()
+            .map(|s| match s {
+                serde_path_to_error::Segment::Map { key } => key.clone(),
+                serde_path_to_error::Segment::Seq { index } => format!("[{index}]"),
+                other => other.to_string(),
+            })
+            .collect();
+        let (key, message) = shape_error(e);
+        if message.starts_with("missing field") {
+            // Missing because a mistyped value was taken out: already reported.
+            if !removed.contains(&key) {
+                errors.push(KeyError { key, message });
             }
-        } else {
-            let key = match missing_or_unknown_key(&message) {
-                Some(k) if message.starts_with("missing field") => format!("{path}.{k}"),
-                _ => path,
-            };
-            ProblemError::Invalid {
-                file: file.to_path_buf(),
-                key,
-                message,
-            }
+            break;
         }
-    })
+        only_unknown &= message.starts_with("unknown field");
+        let mut at: Vec<&str> = segments.iter().map(String::as_str).collect();
+        if !at.last().is_some_and(|k| key.ends_with(k)) {
+            // A top-level key: the path is empty and the key comes from the message.
+            at.push(key.rsplit('.').next().unwrap_or(&key));
+        }
+        let gone = remove_key(&mut table, &at);
+        removed.push(key.clone());
+        errors.push(KeyError { key, message });
+        if !gone {
+            break;
+        }
+    }
+    Ok((None, errors))
+}
+
+/// The key and message of a deserialization error.
+fn shape_error(e: serde_path_to_error::Error<toml::de::Error>) -> (String, String) {
+    let path = e.path().to_string();
+    let message = e.into_inner().message().to_string();
+    let key = if path == "." || path.is_empty() {
+        // A missing or unknown top-level table: toml's message already names it.
+        missing_or_unknown_key(&message).unwrap_or_else(|| "(top level)".into())
+    } else {
+        match missing_or_unknown_key(&message) {
+            Some(k) if message.starts_with("missing field") => format!("{path}.{k}"),
+            _ => path,
+        }
+    };
+    (key, message)
+}
+
+/// Remove the table key at `path` (table keys and `[i]` array indices on the way) from `value`;
+/// whether it was there. An array element is not removed: the indices after it would shift.
+fn remove_key(value: &mut toml::Value, path: &[&str]) -> bool {
+    let Some((last, parents)) = path.split_last() else {
+        return false;
+    };
+    let mut v = value;
+    for seg in parents {
+        let next = match (v, seg.strip_prefix('[').and_then(|s| s.strip_suffix(']'))) {
+            (toml::Value::Array(a), Some(i)) => i.parse::<usize>().ok().and_then(|i| a.get_mut(i)),
+            (toml::Value::Table(t), None) => t.get_mut(*seg),
+            _ => None,
+        };
+        match next {
+            Some(n) => v = n,
+            None => return false,
+        }
+    }
+    match v {
+        toml::Value::Table(t) => t.remove(*last).is_some(),
+        _ => false,
+    }
 }
 
 /// The key named in serde's "missing field `x`" / "unknown field `x`" messages.
@@ -67,16 +143,73 @@ fn syntax(text: &str, file: &Path, e: &toml::de::Error) -> ProblemError {
 }
 
 /// Reads values from the raw file and checks them, naming the file and key on failure.
+///
+/// All refusals of a file are reported in one pass: a value that cannot be read (unknown unit,
+/// not finite) or lies outside its range is recorded and reads as NaN, and validation goes on; a
+/// check that meets a NaN skips it (it was reported where it was read). A refusal that leaves
+/// nothing sensible to check (an unknown law, method or basis) still ends its section, returned
+/// as `Err`; [`Checker::section`] records it and the other sections are checked. [`Checker::finish`]
+/// returns everything recorded as one [`ProblemError::Invalid`].
 pub(super) struct Checker<'a> {
     pub(super) file: &'a Path,
+    errors: RefCell<Vec<KeyError>>,
 }
 
-impl Checker<'_> {
+impl<'a> Checker<'a> {
+    /// A checker for `file` that already holds the parse's shape errors.
+    pub(super) fn new(file: &'a Path, errors: Vec<KeyError>) -> Self {
+        Checker {
+            file,
+            errors: RefCell::new(errors),
+        }
+    }
+
     pub(super) fn fail(&self, key: &str, message: String) -> ProblemError {
-        ProblemError::Invalid {
-            file: self.file.to_path_buf(),
+        ProblemError::invalid(self.file, key, message)
+    }
+
+    /// Record a refusal and carry on: the value reads as NaN.
+    pub(super) fn record(&self, key: &str, message: String) -> f64 {
+        self.errors.borrow_mut().push(KeyError {
             key: key.to_string(),
             message,
+        });
+        f64::NAN
+    }
+
+    /// How many refusals have been recorded so far.
+    pub(super) fn errors_recorded(&self) -> usize {
+        self.errors.borrow().len()
+    }
+
+    /// A section's value, or `None` with its refusal recorded.
+    pub(super) fn section<T>(&self, result: Result<T, ProblemError>) -> Option<T> {
+        match result {
+            Ok(v) => Some(v),
+            Err(e) => {
+                let mut errors = self.errors.borrow_mut();
+                match e {
+                    ProblemError::Invalid { errors: more, .. } => errors.extend(more),
+                    other => errors.push(KeyError {
+                        key: "(file)".into(),
+                        message: other.to_string(),
+                    }),
+                }
+                None
+            }
+        }
+    }
+
+    /// Every refusal recorded, as one error; `Ok` when there is none.
+    pub(super) fn finish(self) -> Result<(), ProblemError> {
+        let errors = self.errors.into_inner();
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(ProblemError::Invalid {
+                file: self.file.to_path_buf(),
+                errors,
+            })
         }
     }
 
@@ -87,8 +220,8 @@ impl Checker<'_> {
         raw: &RawQuantity,
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
-        let v = self.finite(key, raw, dim)?;
-        self.admissible(key, v, dim)
+        let v = self.finite(key, raw, dim);
+        Ok(self.admissible(key, v, dim))
     }
 
     /// A finite value of a declared parameter, in SI units, within the parameter's range.
@@ -97,46 +230,57 @@ impl Checker<'_> {
         spec: &ParameterSpec,
         raw: &RawQuantity,
     ) -> Result<f64, ProblemError> {
-        let v = self.finite(spec.key, raw, spec.dimension)?;
-        if spec.range.contains(v) {
+        let v = self.finite(spec.key, raw, spec.dimension);
+        if v.is_nan() || spec.range.contains(v) {
             Ok(v)
         } else {
-            Err(self.fail(
+            Ok(self.record(
                 spec.key,
                 format!(
-                    "must be {}, got {v} {}",
+                    "must be {}, got {} {}",
                     spec.range.describe(spec.dimension),
+                    show(v),
                     spec.dimension.si_unit()
                 ),
             ))
         }
     }
 
-    /// A finite value in SI units (no range check).
-    fn finite(&self, key: &str, raw: &RawQuantity, dim: Dimension) -> Result<f64, ProblemError> {
+    /// A finite value in SI units (no range check); NaN, recorded, when it is not one.
+    fn finite(&self, key: &str, raw: &RawQuantity, dim: Dimension) -> f64 {
         let v = match raw {
             RawQuantity::Number(v) => *v,
-            RawQuantity::Text(t) => dim.parse(t).map_err(|e| self.fail(key, e.to_string()))?,
+            RawQuantity::Text(t) => match dim.parse(t) {
+                Ok(v) => v,
+                Err(e) => return self.record(key, e.to_string()),
+            },
         };
         if v.is_finite() {
-            Ok(v)
+            v
         } else {
-            Err(self.fail(key, format!("must be a finite number, got {v}")))
+            self.record(key, format!("must be a finite number, got {v}"))
         }
     }
 
     /// `v` if it lies in the admissible range of `key` (if the key has one).
-    fn admissible(&self, key: &str, v: f64, dim: Dimension) -> Result<f64, ProblemError> {
+    fn admissible(&self, key: &str, v: f64, dim: Dimension) -> f64 {
         match super::limits::range_of(key) {
-            Some(r) if !r.contains(v) => Err(self.fail(
+            Some(r) if !v.is_nan() && !r.contains(v) => self.record(
                 key,
-                format!("must be {}, got {v} {}", r.describe(dim), dim.si_unit()),
-            )),
-            _ => Ok(v),
+                format!(
+                    "must be {}, got {} {}",
+                    r.describe(dim),
+                    show(v),
+                    dim.si_unit()
+                ),
+            ),
+            _ => v,
         }
     }
 
-    /// A value that must satisfy `ok`; `allowed` says what is allowed, in words.
+    /// A value that must satisfy `ok`; `allowed` says what is allowed, in words. A NaN `v` was
+    /// refused where it was read and is not checked again; a check that compares `v` with
+    /// another value must also pass when that value is NaN.
     pub(super) fn check(
         &self,
         key: &str,
@@ -145,11 +289,11 @@ impl Checker<'_> {
         allowed: &str,
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
-        if ok {
+        if ok || v.is_nan() {
             Ok(v)
         } else {
             let unit = dim.si_unit();
-            Err(self.fail(key, format!("must be {allowed}, got {v} {unit}")))
+            Ok(self.record(key, format!("must be {allowed}, got {} {unit}", show(v))))
         }
     }
 
@@ -159,9 +303,9 @@ impl Checker<'_> {
         raw: &RawQuantity,
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
-        let v = self.finite(key, raw, dim)?;
-        self.check(key, v, v > 0.0, "> 0", dim)?;
-        self.admissible(key, v, dim)
+        let v = self.finite(key, raw, dim);
+        let v = self.check(key, v, v > 0.0, "> 0", dim)?;
+        Ok(self.admissible(key, v, dim))
     }
 
     pub(super) fn non_negative(
@@ -170,43 +314,55 @@ impl Checker<'_> {
         raw: &RawQuantity,
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
-        let v = self.finite(key, raw, dim)?;
-        self.check(key, v, v >= 0.0, ">= 0", dim)?;
-        self.admissible(key, v, dim)
+        let v = self.finite(key, raw, dim);
+        let v = self.check(key, v, v >= 0.0, ">= 0", dim)?;
+        Ok(self.admissible(key, v, dim))
     }
 }
 
-pub(super) fn problem(raw: ProblemFile, file: &Path) -> Result<Problem, ProblemError> {
-    let c = Checker { file };
-    let model = drillstring(&c, &raw.model)?;
-    let mesh = mesh(&c, &raw.mesh)?;
-    let operating_point = operating_point(&c, &raw.operating_point)?;
-    let simulation = simulation(&c, &raw.simulation, model.length)?;
-    let study = super::validate_study::study(&c, &raw, &model)?;
+/// Check every section of `raw`, recording every refusal (see [`Checker`]); `shape` holds the
+/// refusals of the parse.
+pub(super) fn problem(
+    raw: ProblemFile,
+    file: &Path,
+    shape: Vec<KeyError>,
+) -> Result<Problem, ProblemError> {
+    let c = Checker::new(file, shape);
+    let model = c.section(drillstring(&c, &raw.model));
+    let mesh = c.section(mesh(&c, &raw.mesh));
+    let operating_point = c.section(operating_point(&c, &raw.operating_point));
+    let length = model.as_ref().map_or(f64::NAN, |m| m.length);
+    let simulation = c.section(simulation(&c, &raw.simulation, length));
+    let study = model
+        .as_ref()
+        .and_then(|m| c.section(super::validate_study::study(&c, &raw, m)));
     let name = match raw.name {
         Some(n) if n.trim().is_empty() || n.contains(['/', '\\']) || n == "." || n == ".." => {
-            return Err(c.fail(
+            c.record(
                 "name",
                 format!(
                     "must be a non-empty name without path separators, not `.` or `..`, got {n:?}"
                 ),
-            ));
+            );
+            n
         }
         Some(n) => n,
         None => file
             .file_stem()
             .map_or_else(|| "problem".into(), |s| s.to_string_lossy().into_owned()),
     };
+    c.finish()?;
+    let missing = "a section without refusals";
     Ok(Problem {
         name,
         description: raw.description.unwrap_or_default(),
         source: file.to_path_buf(),
         text: String::new(),
-        model,
-        mesh,
-        operating_point,
-        simulation,
-        study,
+        model: model.expect(missing),
+        mesh: mesh.expect(missing),
+        operating_point: operating_point.expect(missing),
+        simulation: simulation.expect(missing),
+        study: study.expect(missing),
     })
 }
 
@@ -223,7 +379,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     c.check(
         "model.borehole.radius",
         borehole_radius,
-        borehole_radius > pipe.outer_radius,
+        borehole_radius > pipe.outer_radius || pipe.outer_radius.is_nan(),
         &format!(
             "greater than model.pipe.outer_radius ({} m): the pipe must fit in the hole",
             pipe.outer_radius
@@ -315,7 +471,7 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
     c.check(
         "model.pipe.outer_radius",
         outer_radius,
-        outer_radius > inner_radius,
+        outer_radius > inner_radius || inner_radius.is_nan(),
         &format!("greater than model.pipe.inner_radius ({inner_radius} m)"),
         Length,
     )?;
@@ -325,10 +481,14 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
         {
             None => Ok(default),
             Some(RawQuantity::Text(t)) if t == word => Ok(word_value),
-            Some(RawQuantity::Text(t)) => Err(c.fail(
+            Some(RawQuantity::Text(t)) => Ok(c.record(
                 key,
                 format!("`{t}` is not allowed; expected a number in (0, 1] or \"{word}\""),
             )),
+            // `check` passes a NaN as refused already; this one comes from the file.
+            Some(RawQuantity::Number(v)) if v.is_nan() => {
+                Ok(c.record(key, format!("must be in (0, 1] or \"{word}\", got NaN")))
+            }
             Some(RawQuantity::Number(v)) => c.check(
                 key,
                 *v,
@@ -481,7 +641,8 @@ fn operating_point(c: &Checker, o: &OperatingPointSection) -> Result<OperatingPo
             &o.omega,
             Dimension::AngularVelocity,
         )?,
-        v0: c.positive("operating_point.v0", &o.v0, Dimension::Velocity)?,
+        // V0 = 0 is off-bottom rotation, a normal drilling state.
+        v0: c.non_negative("operating_point.v0", &o.v0, Dimension::Velocity)?,
     })
 }
 
@@ -492,7 +653,7 @@ fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulat
     c.check(
         "simulation.time_step",
         time_step,
-        time_step <= duration,
+        time_step <= duration || duration.is_nan(),
         &format!("no longer than simulation.duration ({duration} s)"),
         Time,
     )?;
@@ -502,7 +663,7 @@ fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulat
             c.check(
                 "simulation.settling_time",
                 t,
-                t < duration,
+                t < duration || duration.is_nan(),
                 &format!("shorter than simulation.duration ({duration} s)"),
                 Time,
             )?
@@ -519,7 +680,7 @@ fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulat
             c.check(
                 &key,
                 x,
-                (0.0..=length).contains(&x),
+                (0.0..=length).contains(&x) || length.is_nan(),
                 &format!("in [0, model.length = {length} m]"),
                 Length,
             )

@@ -94,6 +94,7 @@ fn uncertain(
     let seed = seed(c, "uncertain.seed", u.seed, 0)?;
     let mut params: Vec<UncertainParameter> = Vec::new();
     for (i, p) in u.parameter.iter().enumerate() {
+        let before = c.errors_recorded();
         let at = |k: &str| format!("uncertain.parameter[{i}].{k}");
         let key = ParameterKey::resolve(&p.key, model).ok_or_else(|| {
             let names = ParameterKey::available(model);
@@ -168,6 +169,9 @@ fn uncertain(
                 ));
             }
         };
+        if c.errors_recorded() > before {
+            continue; // a value of the law was refused where it was read
+        }
         law.validate().map_err(|m| c.fail(&at("law"), m))?;
         // A law whose bulk leaves the admissible range would make samples fail, not the
         // optimisation: refuse it here (normal laws are not truncated).
@@ -331,17 +335,36 @@ fn range(
     }
     let lo = c.value(&format!("{key}[0]"), &raw[0], dim)?;
     let hi = c.value(&format!("{key}[1]"), &raw[1], dim)?;
-    if !(lo > 0.0 && hi > lo) {
-        return Err(c.fail(
+    let read = !lo.is_nan() && !hi.is_nan(); // else refused where read
+    if read && !(lo > 0.0 && hi > lo) {
+        // Echoed as typed (`"150 rpm"`), so the user sees their own units.
+        c.record(
             key,
             format!(
-                "must satisfy 0 < min < max, got [{lo}, {hi}] {}",
-                dim.si_unit()
+                "must satisfy 0 < min < max, got [{}, {}]",
+                as_typed(&raw[0], dim),
+                as_typed(&raw[1], dim)
             ),
-        ));
+        );
+        return Ok([f64::NAN; 2]);
     }
     Ok([lo, hi])
 }
+
+/// A value as the file has it: a string as typed, a bare number with its SI unit.
+fn as_typed(raw: &RawQuantity, dim: super::Dimension) -> String {
+    match raw {
+        RawQuantity::Text(t) => t.clone(),
+        RawQuantity::Number(v) => format!("{v} {}", dim.si_unit()),
+    }
+}
+
+/// Largest magnitude of a `[[constraints.linear]]` coefficient or bound (SI): far beyond any
+/// physical limit on (Ω, V0) (V0 ≤ 1 m/h is `v0 = 3600`, `upper = 1`), it keeps the products
+/// with the bounds finite.
+const LINEAR_MAX: f64 = 1e9;
+/// Smallest magnitude of a non-zero coefficient: below it the row's norm is lost to round-off.
+const LINEAR_MIN: f64 = 1e-9;
 
 fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, ProblemError> {
     use super::Dimension::*;
@@ -360,8 +383,30 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
     }
     for (i, l) in k.linear.iter().enumerate() {
         let key = format!("constraints.linear[{i}]");
-        if ![l.omega, l.v0, l.upper].iter().all(|x| x.is_finite()) {
-            return Err(c.fail(&key, "coefficients must be finite numbers".into()));
+        let mut refused = false;
+        for (name, v, unit) in [
+            ("omega", l.omega, "per rad/s"),
+            ("v0", l.v0, "per m/s"),
+            ("upper", l.upper, "SI"),
+        ] {
+            let coefficient = name != "upper";
+            let ok = v.abs() <= LINEAR_MAX && (!coefficient || v == 0.0 || v.abs() >= LINEAR_MIN);
+            if !ok {
+                refused = true;
+                let allowed = if coefficient {
+                    format!("0 or a magnitude in [{LINEAR_MIN:e}, {LINEAR_MAX:e}] ({unit})")
+                } else {
+                    format!("a finite number in [-{LINEAR_MAX:e}, {LINEAR_MAX:e}]")
+                };
+                let got = crate::units::show(v);
+                c.record(
+                    &format!("{key}.{name}"),
+                    format!("must be {allowed}, got {got}"),
+                );
+            }
+        }
+        if refused {
+            continue;
         }
         if l.omega == 0.0 && l.v0 == 0.0 {
             return Err(c.fail(
@@ -498,17 +543,30 @@ fn optimizer(
         Some(s) if s.len() == 2 => {
             let w = c.positive("optimizer.start[0]", &s[0], AngularVelocity)?;
             let v = c.positive("optimizer.start[1]", &s[1], Velocity)?;
-            if let Some(k) = constraints
+            let known = |x: &[f64]| x.iter().all(|x| !x.is_nan());
+            if !known(&[w, v]) {
+                // Refused where read; the builders need not see it again.
+                None
+            } else if let Some(k) = constraints
+                && known(&[k.omega[0], k.omega[1], k.v0[0], k.v0[1]])
                 && (!(k.omega[0]..=k.omega[1]).contains(&w) || !(k.v0[0]..=k.v0[1]).contains(&v))
             {
+                use crate::units::{short, to_m_per_h, to_rpm};
                 return Err(c.fail(
                     "optimizer.start",
                     format!(
-                        "must lie inside the bounds constraints.omega and constraints.v0, got ({w} rad/s, {v} m/s)"
+                        "must lie inside the bounds constraints.omega = [{}, {}] rpm and constraints.v0 = [{}, {}] m/h, got ({} rpm, {} m/h)",
+                        short(to_rpm(k.omega[0])),
+                        short(to_rpm(k.omega[1])),
+                        short(to_m_per_h(k.v0[0])),
+                        short(to_m_per_h(k.v0[1])),
+                        short(to_rpm(w)),
+                        short(to_m_per_h(v))
                     ),
                 ));
+            } else {
+                Some([w, v])
             }
-            Some([w, v])
         }
         Some(s) => {
             return Err(c.fail(

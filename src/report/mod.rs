@@ -1,6 +1,6 @@
 //! Writing results to disk: atomic file writes ([`write_atomic`], [`write_json_atomic`]), the time
-//! history as CSV ([`timeseries_csv`]) and SVG plots after the seed paper's Figs. 3–5
-//! ([`plot_bit_axial`], [`plot_bit_rotation`], [`plot_probe_radial`], built on [`plot_panels`]).
+//! history as CSV ([`timeseries_csv`]), every evaluation of a study as CSV ([`evaluations_csv`])
+//! and SVG plots after the seed paper's Figs. 3–5 ([`plot_bit_axial`], [`plot_bit_rotation`], [`plot_probe_radial`], built on [`plot_panels`]).
 //!
 //! Every file is written whole or not at all (temporary file, fsync, rename), so an interrupted
 //! run never leaves a truncated CSV or SVG behind. Units are SI in files (m, s, rad, N, J); plots
@@ -10,6 +10,7 @@
 mod atomic;
 mod axes;
 mod csv;
+mod evaluations_csv;
 mod plots;
 mod study_json;
 mod study_plots;
@@ -21,6 +22,7 @@ mod units;
 pub use atomic::{write_atomic, write_json_atomic};
 pub use axes::{PLOT_BUCKETS, decimate_min_max};
 pub use csv::{probe_column_name, timeseries_csv, write_timeseries_csv};
+pub use evaluations_csv::{evaluations_csv, write_evaluations_csv};
 pub use plots::{
     Panel, PlotError, plot_bit_axial, plot_bit_rotation, plot_panels, plot_probe_radial,
 };

@@ -177,9 +177,55 @@ fn feasible_set(problem: &Problem) -> Result<crate::optimize::FeasibleSet, Solve
     set.find_feasible_point()
         .map_err(|e| SolveError::Infeasible {
             file: problem.source.display().to_string(),
-            message: format!("the bounds and linear constraints leave no feasible (Ω, V0): {e}"),
+            message: infeasible_message(c, &e),
         })?;
     Ok(set)
+}
+
+/// Why the bounds and linear constraints leave no (Ω, V0), in words and the user's units: the
+/// constraint the optimizer could not meet, by its key, and the bounds.
+fn infeasible_message(c: &Constraints, e: &OptimizeError) -> String {
+    use crate::units::{short, to_m_per_h, to_rpm};
+    let bounds = format!(
+        "within the bounds Ω ∈ [{}, {}] rpm (constraints.omega), V0 ∈ [{}, {}] m/h (constraints.v0)",
+        short(to_rpm(c.omega[0])),
+        short(to_rpm(c.omega[1])),
+        short(to_m_per_h(c.v0[0])),
+        short(to_m_per_h(c.v0[1]))
+    );
+    let OptimizeError::Infeasible { row, .. } = e else {
+        return format!("the bounds and linear constraints leave no feasible (Ω, V0): {e}");
+    };
+    let which = row.and_then(|i| c.linear.get(i).map(|l| (i, l)));
+    let detail = match which {
+        Some((_, l)) if l.label == "max_depth_of_cut" => {
+            let (limit, least) = (-l.omega, 2.0 * std::f64::consts::PI * c.v0[0] / c.omega[1]);
+            let why = if least > limit {
+                format!(
+                    ": even the lowest V0 at the highest Ω cuts {} mm per revolution",
+                    short(1e3 * least)
+                )
+            } else {
+                String::new()
+            };
+            format!(
+                "constraints.max_depth_of_cut (depth of cut 2π V0/Ω ≤ {} mm) cannot hold {bounds}{why}",
+                short(1e3 * limit)
+            )
+        }
+        Some((i, l)) => {
+            // The i-th row counts the depth-of-cut row first; the file's index does not.
+            let file_index = c.linear[..i].iter().filter(|r| r.label == l.label).count();
+            format!(
+                "constraints.linear[{file_index}] ({} Ω + {} V0 ≤ {}, SI) cannot hold {bounds}",
+                l.omega, l.v0, l.upper
+            )
+        }
+        None => format!(
+            "the constraints of [[constraints.linear]] and max_depth_of_cut cannot hold together {bounds}"
+        ),
+    };
+    format!("the bounds and linear constraints leave no feasible (Ω, V0): {detail}")
 }
 
 /// The best of a list of evaluations: feasible first, then by score.

@@ -4,8 +4,22 @@
 //! string `"<number> <unit>"` (the space is optional): `"60 rpm"`, `"5 m/h"`, `"40 mm"`, `"250 kN"`.
 //! [`Dimension::parse`] converts such a string to SI, and is also what the command line uses for
 //! `--omega 60rpm` and `--v0 5m/h`.
+//!
+//! Oilfield units are accepted beside SI: `psi`, `ksi` (pressure, modulus), `lbf`, `klbf`
+//! (force), `ppg` (mud weight, lbm/US gal) and `sg` (specific gravity, × 1000 kg/m³) for
+//! densities, `in`, `ft` and `ft/h`. No input of a problem file is a torque, so there is no
+//! `ft·lbf`.
 
 use std::fmt;
+
+/// Pound-force in N: the standard pound (0.45359237 kg, exact) times standard gravity
+/// (9.80665 m/s², exact), so exact to the digits given (NIST SP 811, B.8).
+pub const LBF_N: f64 = 4.448_221_615_260_5;
+/// Pound-force per square inch in Pa: [`LBF_N`] over (0.0254 m)² (NIST SP 811, B.8).
+pub const PSI_PA: f64 = 6_894.757_293_168;
+/// Pound-mass per US gallon (`ppg`, mud weight) in kg/m³: 0.45359237 kg / 3.785411784 L
+/// (NIST SP 811, B.8: 1.198264 E+02).
+pub const PPG_KG_M3: f64 = 119.826_427;
 
 /// The physical dimension of a value, which fixes the units it may be written in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,13 +88,28 @@ impl Dimension {
                 ("rev/s", 2.0 * PI),
                 ("Hz", 2.0 * PI),
             ],
-            Dimension::Force => &[("N", 1.0), ("kN", 1e3), ("MN", 1e6)],
-            Dimension::Pressure => &[("Pa", 1.0), ("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9)],
+            Dimension::Force => &[
+                ("N", 1.0),
+                ("kN", 1e3),
+                ("MN", 1e6),
+                ("lbf", LBF_N),
+                ("klbf", 1e3 * LBF_N),
+            ],
+            Dimension::Pressure => &[
+                ("Pa", 1.0),
+                ("kPa", 1e3),
+                ("MPa", 1e6),
+                ("GPa", 1e9),
+                ("psi", PSI_PA),
+                ("ksi", 1e3 * PSI_PA),
+            ],
             Dimension::Density => &[
                 ("kg/m3", 1.0),
                 ("kg/m^3", 1.0),
                 ("g/cm3", 1e3),
                 ("g/cm^3", 1e3),
+                ("ppg", PPG_KG_M3),
+                ("sg", 1e3),
             ],
             Dimension::Acceleration => &[("m/s2", 1.0), ("m/s^2", 1.0)],
             Dimension::Rate => &[("1/s", 1.0), ("Hz", 1.0)],
@@ -212,6 +241,54 @@ mod tests {
         );
         assert_relative_eq!(Dimension::Velocity.parse("5 M/H").unwrap(), 1.0 / 720.0);
         assert_relative_eq!(Dimension::Force.parse("250 KN").unwrap(), 250e3);
+    }
+
+    /// Issue 13 item 12: the oilfield units, against the published conversion factors (NIST SP 811
+    /// appendix B.8; 1 lbf = 0.45359237 kg × 9.80665 m/s² exactly).
+    #[test]
+    fn converts_oilfield_units_with_the_published_factors() {
+        let close = |got: f64, want: f64| {
+            assert!((got - want).abs() <= 1e-14 * want.abs(), "{got} != {want}");
+        };
+        close(Dimension::Force.parse("1 lbf").unwrap(), 4.4482216152605);
+        close(
+            Dimension::Force.parse("56.2 klbf").unwrap(),
+            56.2e3 * 4.4482216152605,
+        );
+        close(
+            Dimension::Force.parse("1 lbf").unwrap(),
+            0.45359237 * 9.80665,
+        );
+        close(Dimension::Pressure.parse("1 psi").unwrap(), 6894.757293168);
+        close(
+            Dimension::Pressure.parse("29.4e6 psi").unwrap(),
+            29.4e6 * 6894.757293168,
+        );
+        close(
+            Dimension::Pressure.parse("1 ksi").unwrap(),
+            6894.757293168e3,
+        );
+        // psi is lbf/in²: the two factors agree to their printed digits.
+        let psi = 4.4482216152605 / (0.0254 * 0.0254);
+        assert!((Dimension::Pressure.parse("1 psi").unwrap() - psi).abs() < 1e-12 * psi);
+        close(Dimension::Density.parse("1 ppg").unwrap(), 119.826427);
+        close(Dimension::Density.parse("10 ppg").unwrap(), 1198.26427);
+        // lbm / US gal = 0.45359237 kg / 3.785411784e-3 m³, to the published 9 digits.
+        let ppg = 0.45359237 / 3.785411784e-3;
+        assert!((Dimension::Density.parse("1 ppg").unwrap() - ppg).abs() < 1e-6);
+        close(Dimension::Density.parse("1.2 sg").unwrap(), 1200.0);
+        close(Dimension::Density.parse("1.2 SG").unwrap(), 1200.0);
+        close(Dimension::Length.parse("6.75 in").unwrap(), 0.17145);
+        close(
+            Dimension::Velocity.parse("100 ft/h").unwrap(),
+            30.48 / 3600.0,
+        );
+        // A unit of another dimension is still refused, listing the oilfield units too.
+        let err = Dimension::Density.parse("10 psi").unwrap_err().to_string();
+        assert!(
+            err.contains("unknown unit `psi`") && err.contains("ppg, sg"),
+            "{err}"
+        );
     }
 
     #[test]

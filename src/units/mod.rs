@@ -34,3 +34,39 @@ pub fn to_m_per_h(v_m_s: f64) -> f64 {
 pub fn from_m_per_h(v_m_h: f64) -> f64 {
     v_m_h / M_PER_H_PER_M_PER_S
 }
+
+/// `x` with at most 4 decimals and no trailing zeros (`30`, `111.1111`, `0.25`), for messages.
+pub fn short(x: f64) -> String {
+    let s = format!("{x:.4}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// `x` as Rust prints it when that is short (`0.005`, `250000`), in exponent form when it is
+/// not (`1e308`, `1e-300`), for echoing a value in a message.
+pub fn show(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e9).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn short_numbers_for_messages() {
+        assert_eq!(super::short(30.000000000000004), "30");
+        assert_eq!(super::short(111.11111), "111.1111");
+        assert_eq!(super::short(0.25), "0.25");
+        assert_eq!(super::short(-3.0), "-3");
+        assert_eq!(super::show(1e308), "1e308");
+        assert_eq!(super::show(-2.5e-300), "-2.5e-300");
+        assert_eq!(super::show(0.005), "0.005");
+        assert_eq!(super::show(f64::NAN), "NaN");
+    }
+}

@@ -1,0 +1,212 @@
+//! Issue 13: the shipped problem files, mutated at random (a line deleted or duplicated, a value
+//! replaced by a random string, a huge, negative or non-finite number or a wrong unit, the file
+//! truncated), never make the loader panic, and every refusal names the file and a key (or the
+//! file and a line, for TOML syntax). Bounded to 256 cases per file so that it runs in seconds
+//! in CI (`cargo test`); no failure files are written.
+
+use drillopt::problem::{Problem, ProblemError};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, TestRunner};
+use std::path::Path;
+
+/// Cases per file in CI; `DRILLOPT_FUZZ_CASES=20000 cargo test --release --test problem_fuzz`
+/// for a deeper local run.
+const CASES: u32 = 256;
+
+fn cases() -> u32 {
+    std::env::var("DRILLOPT_FUZZ_CASES")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(CASES)
+}
+
+const SHIPPED: [(&str, &str); 7] = [
+    (
+        "problems/seed_mc2014.toml",
+        include_str!("../problems/seed_mc2014.toml"),
+    ),
+    (
+        "problems/seed_mc2014_paper.toml",
+        include_str!("../problems/seed_mc2014_paper.toml"),
+    ),
+    (
+        "problems/seed_robust.toml",
+        include_str!("../problems/seed_robust.toml"),
+    ),
+    (
+        "problems/seed_detournay.toml",
+        include_str!("../problems/seed_detournay.toml"),
+    ),
+    (
+        "problems/long_collars.toml",
+        include_str!("../problems/long_collars.toml"),
+    ),
+    (
+        "problems/regression/tiny_string.toml",
+        include_str!("../problems/regression/tiny_string.toml"),
+    ),
+    (
+        "problems/regression/short_string.toml",
+        include_str!("../problems/regression/short_string.toml"),
+    ),
+];
+
+/// One edit of a file's text; line indices and byte offsets are taken modulo the file's size.
+#[derive(Debug, Clone)]
+enum Mutation {
+    Delete(usize),
+    Duplicate(usize),
+    /// The value of a `key = value` line (a whole line if the file has none).
+    Replace(usize, String),
+    Truncate(usize),
+}
+
+/// A value a user (or a fuzzer) might type.
+fn value() -> impl Strategy<Value = String> {
+    let unit = prop::sample::select(vec![
+        "",
+        " m",
+        " mm",
+        " rpm",
+        " m/h",
+        " kN",
+        " GPa",
+        " psi",
+        " ppg",
+        " s",
+        " ms",
+        " Hz",
+        " furlongs",
+        " RPM",
+        " kg/m^3",
+        " N/m",
+    ]);
+    prop_oneof![
+        // A random string, quoted or bare.
+        "[a-zA-Z0-9 _.,/-]{0,12}".prop_map(|s| format!("\"{s}\"")),
+        "[a-z_]{1,8}",
+        // Huge, tiny, negative, non-finite, with or without a unit.
+        (
+            prop::sample::select(vec![
+                "1e308", "1e999", "-1e308", "1e-300", "-1", "-0.5", "0", "nan", "inf", "-inf",
+                "2.5e11", "1e9",
+            ]),
+            unit.clone()
+        )
+            .prop_map(|(n, u)| if u.is_empty() {
+                n.to_string()
+            } else {
+                format!("\"{n}{u}\"")
+            }),
+        (any::<f64>(), unit).prop_map(|(x, u)| format!("\"{x:e}{u}\"")),
+        any::<i64>().prop_map(|n| n.to_string()),
+        // Wrong shapes: an array, a table, a boolean.
+        Just("[1, 2, 3]".to_string()),
+        Just("{ a = 1 }".to_string()),
+        Just("true".to_string()),
+    ]
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        1 => any::<usize>().prop_map(Mutation::Delete),
+        1 => any::<usize>().prop_map(Mutation::Duplicate),
+        3 => (any::<usize>(), value()).prop_map(|(i, v)| Mutation::Replace(i, v)),
+        1 => any::<usize>().prop_map(Mutation::Truncate),
+    ]
+}
+
+fn apply(text: &str, m: &Mutation) -> String {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    if lines.is_empty() {
+        return String::new();
+    }
+    let n = lines.len();
+    match m {
+        Mutation::Delete(i) => {
+            lines.remove(i % n);
+        }
+        Mutation::Duplicate(i) => {
+            let l = lines[i % n].clone();
+            lines.insert(i % n, l);
+        }
+        Mutation::Replace(i, v) => {
+            // A `key = value` line when there is one (else any line, replaced whole).
+            let keyed: Vec<usize> = (0..n)
+                .filter(|&k| lines[k].contains('=') && !lines[k].trim_start().starts_with('#'))
+                .collect();
+            let k = if keyed.is_empty() {
+                i % n
+            } else {
+                keyed[i % keyed.len()]
+            };
+            let l = &mut lines[k];
+            *l = match l.split_once('=') {
+                Some((key, _)) => format!("{key}= {v}"),
+                None => v.clone(),
+            };
+        }
+        Mutation::Truncate(at) => {
+            let mut cut = at % (text.len() + 1);
+            while !text.is_char_boundary(cut) {
+                cut -= 1;
+            }
+            return text[..cut].to_string();
+        }
+    }
+    lines.join("\n") + "\n"
+}
+
+/// Loading never panics (a panic fails the case); a refusal names the file and a key or a line.
+fn check(path: &str, text: &str) -> Result<(), TestCaseError> {
+    let err = match Problem::from_toml(text, Path::new(path)) {
+        Ok(_) => return Ok(()),
+        Err(e) => e,
+    };
+    let msg = err.to_string();
+    match &err {
+        ProblemError::Syntax { file, line, .. } => {
+            prop_assert_eq!(file.to_str(), Some(path));
+            prop_assert!(*line >= 1, "no line: {}", msg);
+            prop_assert!(msg.starts_with(&format!("{path}:{line}:")), "{}", msg);
+        }
+        ProblemError::Invalid { file, errors } => {
+            prop_assert_eq!(file.to_str(), Some(path));
+            prop_assert!(!errors.is_empty());
+            for e in errors {
+                prop_assert!(
+                    !e.key.is_empty() && !e.key.starts_with('('),
+                    "not a key: {:?} in {}",
+                    e.key,
+                    msg
+                );
+                prop_assert!(
+                    msg.contains(&format!("{path}: key `{}`: ", e.key)),
+                    "{}",
+                    msg
+                );
+            }
+        }
+        ProblemError::Io { .. } => prop_assert!(false, "no I/O here: {}", msg),
+    }
+    Ok(())
+}
+
+#[test]
+fn mutated_shipped_problems_never_panic_and_every_refusal_names_file_and_key() {
+    for (path, text) in SHIPPED {
+        let config = Config {
+            cases: cases(),
+            failure_persistence: None,
+            ..Config::default()
+        };
+        let mut runner = TestRunner::new(config);
+        let edits = prop::collection::vec(mutation(), 1..4);
+        runner
+            .run(&edits, |edits| {
+                let mutated = edits.iter().fold(text.to_string(), |t, m| apply(&t, m));
+                check(path, &mutated)
+            })
+            .unwrap_or_else(|e| panic!("{path}: {e}"));
+    }
+}
