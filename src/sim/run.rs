@@ -1,11 +1,14 @@
-//! One run: static equilibrium under gravity with wall contact, then the adaptive Newmark march
-//! from the rigid velocity field (MODEL.md §4, §7), recording a [`TimeSeries`].
+//! One run: the starting state (the pre-loaded steady drilling state, or the paper's static
+//! equilibrium under gravity with wall contact), then the adaptive Newmark march (MODEL.md §4, §7),
+//! recording a [`TimeSeries`] and the stress envelope.
 //!
-//! Step control: a step is accepted when Newton converges and the local error estimate is ≤ 1;
-//! the next step is h · clamp(0.9 err^(−1/3), 0.3, 2), never above the nominal step. A failed
-//! Newton iteration halves the step. This refines automatically around impacts (where the
-//! acceleration jumps) and coarsens again afterwards. A run that cannot go on (step below the
-//! minimum, non-finite state, divergence) stops with an error and keeps what it had recorded.
+//! Step control is the integrator's ([`crate::integrate::AdaptiveStepper`]: a step is accepted
+//! when Newton converges and the local error estimate is ≤ 1; a PI controller sets the next one;
+//! a failed Newton iteration halves it), never above the nominal step nor 1/20 of the lowest
+//! torsional and axial periods ([`resolving_step`]). This refines automatically around impacts
+//! (where the acceleration jumps) and coarsens again afterwards. A run that cannot go on (step
+//! below the minimum, too many attempts, non-finite state, divergence) stops with an error and
+//! keeps what it had recorded.
 
 use super::envelope::StressEnvelope;
 use super::series::Frame;
