@@ -32,6 +32,19 @@ fn main() -> ExitCode {
         }
         universe
     };
+    // A binary built without MPI, launched by mpirun: every rank would run the whole command.
+    #[cfg(not(feature = "mpi"))]
+    if let Some(n) = ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok())
+        .and_then(|n| n.parse::<u32>().ok())
+        .filter(|&n| n > 1)
+    {
+        eprintln!(
+            "error: launched on {n} MPI ranks, but this drillopt was built without MPI; rebuild with `cargo build --release --features mpi`"
+        );
+        return ExitCode::FAILURE;
+    }
     let cli = drillopt::cli::Cli::parse();
     let status = match drillopt::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

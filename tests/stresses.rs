@@ -67,7 +67,9 @@ fn steady_drilling_stresses_match_the_closed_form_along_the_whole_string() {
             (s / von_mises - 1.0).abs() < 1e-4,
             "element {k}: {s} Pa against {von_mises} Pa"
         );
-        assert!((env.max_compression_n[k] / wob - 1.0).abs() < 1e-4);
+        // N = E∫E_xx dA = EA(ε + ½ε²) + EI κ² (the helix of the twisted fibres).
+        let compression = -(e * a * (eps + 0.5 * eps * eps) + e * (j / 2.0) * kappa * kappa);
+        assert!((env.max_compression_n[k] / compression - 1.0).abs() < 1e-4);
         assert!((env.max_torque_nm[k] / tob - 1.0).abs() < 1e-4);
     }
     // The metrics, with the S-135 grade's 135 ksi = 930.8 MPa.
@@ -97,13 +99,20 @@ fn yield_strength_is_a_pressure_or_an_api_grade() {
 }
 
 #[test]
-fn the_safety_factor_as_a_risk_needs_a_yield_strength() {
-    let risk =
-        "\n[objective]\n[[objective.risk]]\nmetric = \"von_mises_safety_factor\"\nweight = 1.0\n";
+fn risks_use_the_utilization_which_needs_a_yield_strength() {
+    let risk = |metric: &str| {
+        format!("\n[objective]\n[[objective.risk]]\nmetric = \"{metric}\"\nweight = 1.0\n")
+    };
     let seed = std::fs::read_to_string(common::SEED).unwrap();
-    let err = Problem::from_toml(&format!("{seed}{risk}"), Path::new("stress.toml")).unwrap_err();
-    assert_eq!(err.key(), Some("objective.risk[0].metric"));
-    assert!(err.to_string().contains("yield_strength"), "{err}");
     let with_grade = seed.replace("[model.pipe]", "[model.pipe]\nyield_strength = \"S-135\"");
-    Problem::from_toml(&format!("{with_grade}{risk}"), Path::new("stress.toml")).unwrap();
+    let load = |text: String| Problem::from_toml(&text, Path::new("stress.toml"));
+    // The safety factor grows with safety: never a risk, with or without a yield strength.
+    for base in [&seed, &with_grade] {
+        let err = load(format!("{base}{}", risk("von_mises_safety_factor"))).unwrap_err();
+        assert_eq!(err.key(), Some("objective.risk[0].metric"));
+        assert!(err.to_string().contains("von_mises_utilization"), "{err}");
+    }
+    let err = load(format!("{seed}{}", risk("von_mises_utilization"))).unwrap_err();
+    assert!(err.to_string().contains("yield_strength"), "{err}");
+    load(format!("{with_grade}{}", risk("von_mises_utilization"))).unwrap();
 }

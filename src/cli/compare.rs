@@ -64,7 +64,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         (ops.len() * problem.study.samples.max(1)) as u64,
         "compare",
     );
-    let ev = study::evaluator(&problem, Some(&cache), &bar)?;
+    let ev = study::evaluator(&problem, Some(&cache), &bar, args.run.quiet)?;
     let points = ev.evaluate(&ops);
     bar.finish_and_clear();
     // Bit-speed histories of the nominal model, for the overlay plot.

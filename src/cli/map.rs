@@ -53,7 +53,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         (grid[0] * grid[1] * problem.study.samples.max(1)) as u64,
         "map",
     );
-    let ev = study::evaluator(&problem, Some(&cache), &bar)?;
+    let ev = study::evaluator(&problem, Some(&cache), &bar, args.run.quiet)?;
     let m = solve::map(&problem, &ev, grid).context("map")?;
     bar.finish_and_clear();
     let json = MapJson {

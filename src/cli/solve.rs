@@ -31,7 +31,7 @@ pub fn solve_and_report(
     let settings = &problem.study.optimizer;
     let per_point = problem.study.samples.max(1) as u64;
     let bar = study::progress_bar(quiet, settings.budget() as u64 * per_point, "solve");
-    let ev = study::evaluator(problem, Some(&cache), &bar)?;
+    let ev = study::evaluator(problem, Some(&cache), &bar, quiet)?;
     let bar2 = bar.clone();
     let outcome = solve::solve(
         problem,

@@ -70,13 +70,14 @@ pub fn evaluator<'a>(
     problem: &'a Problem,
     cache: Option<&'a EvalCache>,
     bar: &'a ProgressBar,
+    quiet: bool,
 ) -> anyhow::Result<RobustEvaluator<'a>> {
     let ev = RobustEvaluator::new(problem, cache)
         .context("setting up the robust evaluation")?
         .with_progress(move || bar.inc(1));
     if let Some(c) = cache {
         let stale = c.other_models(ev.model_hash);
-        if stale > 0 && !bar.is_hidden() {
+        if stale > 0 && !quiet {
             eprintln!(
                 "{stale} cached results in {} are of other numerics or another problem: ignored",
                 c.path().display()

@@ -221,8 +221,12 @@ pub struct Metrics {
     /// Where along the string (element midpoint x from the top drive) it occurs, m.
     pub max_von_mises_at_m: f64,
     /// Yield strength over `max_von_mises_pa` (> 1: no fibre yields); NaN when the problem gives
-    /// no `model.pipe.yield_strength`.
+    /// no `model.pipe.yield_strength`. Larger is safer, so risk terms and chance constraints use
+    /// its inverse, `von_mises_utilization`.
     pub von_mises_safety_factor: f64,
+    /// `max_von_mises_pa` over the yield strength (the unity check: ≥ 1 yields), dimensionless;
+    /// NaN without a yield strength.
+    pub von_mises_utilization: f64,
     /// Largest compressive axial force anywhere along the string over the window, N (≥ 0).
     pub max_compression_n: f64,
     /// Largest torque magnitude anywhere along the string over the window, N·m.
@@ -242,6 +246,7 @@ impl Metrics {
         self.max_von_mises_pa = peak;
         self.max_von_mises_at_m = at;
         self.von_mises_safety_factor = yield_strength.map_or(f64::NAN, |y| y / peak);
+        self.von_mises_utilization = yield_strength.map_or(f64::NAN, |y| peak / y);
         self.max_compression_n = max(&envelope.max_compression_n);
         self.max_torque_nm = max(&envelope.max_torque_nm);
         self
@@ -249,7 +254,7 @@ impl Metrics {
 
     /// Every metric with its `summary.json` key, values as they are (±∞ and NaN included: a
     /// JSON round trip would turn them into null).
-    pub fn named_values(&self) -> [(&'static str, f64); 23] {
+    pub fn named_values(&self) -> [(&'static str, f64); 24] {
         [
             ("mean_rop_m_s", self.mean_rop_m_s),
             ("mean_rop_m_per_h", self.mean_rop_m_per_h),
@@ -275,6 +280,7 @@ impl Metrics {
             ("max_von_mises_pa", self.max_von_mises_pa),
             ("max_von_mises_at_m", self.max_von_mises_at_m),
             ("von_mises_safety_factor", self.von_mises_safety_factor),
+            ("von_mises_utilization", self.von_mises_utilization),
             ("max_compression_n", self.max_compression_n),
             ("max_torque_nm", self.max_torque_nm),
         ]
@@ -389,6 +395,7 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
         max_von_mises_pa: f64::NAN,
         max_von_mises_at_m: f64::NAN,
         von_mises_safety_factor: f64::NAN,
+        von_mises_utilization: f64::NAN,
         max_compression_n: f64::NAN,
         max_torque_nm: f64::NAN,
     })

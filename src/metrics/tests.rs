@@ -398,6 +398,7 @@ fn serializes_with_exactly_the_documented_keys() {
         (3e8, 1.5, 5e4, 3e3)
     );
     assert!((m.von_mises_safety_factor - 3.1).abs() < 1e-12);
+    assert!((m.von_mises_utilization - 3e8 / 930e6).abs() < 1e-15);
     let json = serde_json::to_value(&m).unwrap();
     let mut keys: Vec<&str> = json
         .as_object()

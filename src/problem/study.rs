@@ -195,7 +195,7 @@ pub struct Study {
 }
 
 /// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
-pub const METRICS: [&str; 23] = [
+pub const METRICS: [&str; 24] = [
     "mean_rop_m_s",
     "mean_rop_m_per_h",
     "stick_slip_severity",
@@ -217,6 +217,7 @@ pub const METRICS: [&str; 23] = [
     "max_von_mises_pa",
     "max_von_mises_at_m",
     "von_mises_safety_factor",
+    "von_mises_utilization",
     "max_compression_n",
     "max_torque_nm",
 ];

@@ -34,24 +34,31 @@ pub(super) fn study(
         .transpose()?;
     let optimizer = optimizer(c, raw.optimizer.as_ref(), constraints.as_ref())?;
     let expect = raw.expect.as_ref().map(|e| expect(c, e)).transpose()?;
-    // The safety factor is defined against the pipe's yield strength only.
-    if model.pipe.yield_strength.is_none() {
-        let uses = |m: &str| m == "von_mises_safety_factor";
-        let at = risk
-            .iter()
+    // Risk terms and chance constraints penalise large values: the safety factor (larger is
+    // safer) is refused there, and its inverse, the utilization, needs a yield strength.
+    let at = |uses: &dyn Fn(&str) -> bool| {
+        risk.iter()
             .position(|r| uses(&r.metric))
             .map(|i| format!("objective.risk[{i}].metric"))
             .or_else(|| {
                 let chance = &constraints.as_ref()?.chance;
                 let i = chance.iter().position(|k| uses(&k.metric))?;
                 Some(format!("constraints.chance[{i}].metric"))
-            });
-        if let Some(key) = at {
-            return Err(c.fail(
-                &key,
-                "von_mises_safety_factor needs model.pipe.yield_strength (a pressure or an API grade such as \"S-135\")".into(),
-            ));
-        }
+            })
+    };
+    if let Some(key) = at(&|m| m == "von_mises_safety_factor") {
+        return Err(c.fail(
+            &key,
+            "von_mises_safety_factor is larger when safer, and risk terms and chance constraints penalise large values: use von_mises_utilization (peak stress / yield strength = 1 / safety factor), e.g. a chance constraint with threshold 0.5 for a safety factor of at least 2".into(),
+        ));
+    }
+    if model.pipe.yield_strength.is_none()
+        && let Some(key) = at(&|m| m == "von_mises_utilization")
+    {
+        return Err(c.fail(
+            &key,
+            "von_mises_utilization needs model.pipe.yield_strength (a pressure or an API grade such as \"S-135\")".into(),
+        ));
     }
     if expect.is_some() && constraints.is_none() {
         return Err(c.fail(

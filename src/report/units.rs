@@ -47,6 +47,7 @@ impl<'a> MetricDisplay<'a> {
             "max_von_mises_pa" => ("largest von Mises stress", "MPa", 1e-6),
             "max_von_mises_at_m" => ("where the von Mises stress peaks", "m", 1.0),
             "von_mises_safety_factor" => ("von Mises safety factor (yield / peak)", "", 1.0),
+            "von_mises_utilization" => ("von Mises utilization (peak / yield)", "%", 100.0),
             "max_compression_n" => ("largest compression", "kN", 1e-3),
             "max_torque_nm" => ("largest torque in the string", "kN·m", 1e-3),
             other => (other, "", 1.0),
