@@ -124,8 +124,9 @@ fn verify_reports_verdicts_that_follow_from_its_numbers() {
         assert!(refined >= 1.5 * base, "{family}: {base} → {refined}");
     }
     let metrics = r["metrics"].as_object().unwrap();
+    // The tiny string decides on no stress metric: the core decision metrics only.
     assert_eq!(metrics.len(), drillopt::verify::DECISION_METRICS.len());
-    assert!(metrics.contains_key("max_von_mises_pa"));
+    assert!(!metrics.contains_key("max_von_mises_pa"));
     let mut all = true;
     for (key, v) in metrics {
         let value = v["value"].as_f64().unwrap();

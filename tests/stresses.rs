@@ -116,3 +116,19 @@ fn risks_use_the_utilization_which_needs_a_yield_strength() {
     assert!(err.to_string().contains("yield_strength"), "{err}");
     load(format!("{with_grade}{}", risk("von_mises_utilization"))).unwrap();
 }
+
+#[test]
+fn verify_checks_the_stress_when_the_problem_decides_on_it() {
+    let keys = |p: &Problem| -> Vec<&str> {
+        drillopt::verify::decision_metrics(p)
+            .iter()
+            .map(|d| d.key)
+            .collect()
+    };
+    let seed = std::fs::read_to_string(common::SEED).unwrap();
+    assert!(!keys(&common::seed()).contains(&"max_von_mises_pa"));
+    let text = seed.replace("[model.pipe]", "[model.pipe]\nyield_strength = \"S-135\"")
+        + "\n[objective]\n[[objective.risk]]\nmetric = \"von_mises_utilization\"\nweight = 1.0\n";
+    let p = Problem::from_toml(&text, Path::new("stress.toml")).unwrap();
+    assert!(keys(&p).contains(&"max_von_mises_pa"));
+}
