@@ -43,8 +43,8 @@ pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
         .parse(v.trim())
         .with_context(|| format!("--point {text}: axial velocity"))?;
     anyhow::ensure!(
-        omega > 0.0 && v0 > 0.0 && omega.is_finite() && v0.is_finite(),
-        "--point {text}: both values must be finite and > 0"
+        omega > 0.0 && v0 >= 0.0 && omega.is_finite() && v0.is_finite(),
+        "--point {text}: the rotation speed must be finite and > 0, the axial velocity finite and >= 0 (0: off bottom)"
     );
     Ok(OperatingPoint { omega, v0 })
 }
@@ -109,5 +109,9 @@ mod tests {
         let err = super::parse_point("60,5").unwrap_err().to_string();
         assert!(err.contains("no unit"), "{err}");
         assert!(super::parse_point("60rpm,5").is_err());
+        // Off bottom (V0 = 0) is a drilling state like any other; a negative V0 is not.
+        assert_eq!(super::parse_point("60rpm,0m/h").unwrap().v0, 0.0);
+        assert!(super::parse_point("60rpm,-1m/h").is_err());
+        assert!(super::parse_point("0rpm,5m/h").is_err());
     }
 }

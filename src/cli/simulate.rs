@@ -63,10 +63,16 @@ pub(super) fn parse_override(
                 .with_context(|| format!("{flag} (key `{key}`)"))?;
             // Every override key has a range (limits::range_of); each excludes NaN and ±∞.
             if let Some(r) = crate::problem::limits::range_of(key) {
+                // Said in the driller's unit of the flag.
+                let (unit, factor) = match flag {
+                    "--omega" => ("rpm", crate::units::from_rpm(1.0)),
+                    "--v0" => ("m/h", crate::units::from_m_per_h(1.0)),
+                    _ => ("s", 1.0),
+                };
                 anyhow::ensure!(
                     r.contains(v),
                     "{flag} (key `{key}`) must be {}, got {t}",
-                    r.describe(dim)
+                    r.describe_in(unit, factor)
                 );
             }
             Ok(v)

@@ -45,6 +45,22 @@ impl Range {
             && x <= self.hi
     }
 
+    /// "in [0, 1000] m/h (why)": the range in a unit of the dimension, `unit` being worth
+    /// `factor` SI units (as in [`Dimension::units`]), for messages in the unit a user typed.
+    pub fn describe_in(&self, unit: &str, factor: f64) -> String {
+        let show = |x: f64| {
+            let t = format!("{:.9}", x / factor);
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        };
+        format!(
+            "in {}{}, {}] {unit} ({})",
+            if self.open_below { "(" } else { "[" },
+            show(self.lo),
+            show(self.hi),
+            self.why
+        )
+    }
+
     /// "in (0, 15000] m (why)".
     pub fn describe(&self, dim: Dimension) -> String {
         format!(
@@ -70,5 +86,10 @@ mod tests {
         assert!(o.contains(1.0) && !o.contains(1.0 + 1e-12));
         assert!(!c.contains(f64::NAN) && !c.contains(f64::INFINITY));
         assert_eq!(o.describe(Dimension::Length), "in (0, 1] m ()");
+        let v0 = Range::closed(0.0, 1000.0 / 3600.0, "at most 1000 m/h");
+        assert_eq!(
+            v0.describe_in("m/h", 1.0 / 3600.0),
+            "in [0, 1000] m/h (at most 1000 m/h)"
+        );
     }
 }
