@@ -1,23 +1,9 @@
 //! A command never exits 0 with a missing result, and an absurd override is refused before
 //! anything runs.
 
-use std::process::{Command, Output};
+mod common;
 
-fn simulate(extra: &[&str], out: &std::path::Path) -> Output {
-    let mut args = vec![
-        "simulate",
-        "problems/regression/tiny_string.toml",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    args.extend(extra);
-    Command::new(env!("CARGO_BIN_EXE_drillopt"))
-        .args(&args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("drillopt runs")
-}
+use common::simulate_tiny as simulate;
 
 /// V0 = 1e308 m/h is outside the admissible range of operating_point.v0: refused, naming the flag
 /// and the range.

@@ -2,23 +2,9 @@
 //! and a negative `--v0` reaches drillopt's parser (not clap's flag reader) and is refused naming
 //! the key and the admissible range.
 
-use std::process::{Command, Output};
+mod common;
 
-fn simulate(extra: &[&str], out: &std::path::Path) -> Output {
-    let mut args = vec![
-        "simulate",
-        "problems/regression/tiny_string.toml",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    args.extend(extra);
-    Command::new(env!("CARGO_BIN_EXE_drillopt"))
-        .args(&args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("drillopt runs")
-}
+use common::simulate_tiny as simulate;
 
 #[test]
 fn off_bottom_rotation_simulates_with_defined_metrics() {

@@ -86,7 +86,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         work: WorkJson::of(&ev, clock.elapsed().as_secs_f64()),
     };
     report::write_json_atomic(&out.join("compare.json"), &json)?;
-    report::write_evaluations_csv(&out, &problem, &points)?;
+    report::write_evaluations_csv(&out, &problem, &ev.samples, &points)?;
     super::study_plots::compare_plots(&out, &runs, &ops)?;
     if !args.run.quiet {
         study::print_table(&points);

@@ -71,7 +71,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         work: WorkJson::of(&ev, clock.elapsed().as_secs_f64()),
     };
     report::write_json_atomic(&out.join("map.json"), &json)?;
-    report::write_evaluations_csv(&out, &problem, m.points.iter().flatten())?;
+    report::write_evaluations_csv(&out, &problem, &ev.samples, m.points.iter().flatten())?;
     super::study_plots::map_plots(&problem, &out, &m)?;
     if !args.run.quiet {
         for line in table(&m) {

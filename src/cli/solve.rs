@@ -56,7 +56,15 @@ pub fn solve_and_report(
         None => None,
     };
     let work = WorkJson::of(&ev, clock.elapsed().as_secs_f64());
-    write_report(problem, problem_file, out, &outcome, work, check.as_ref())?;
+    write_report(
+        problem,
+        problem_file,
+        out,
+        &outcome,
+        &ev.samples,
+        work,
+        check.as_ref(),
+    )?;
     if print {
         print_summary(problem, out, &outcome, &ev);
         if let Some(c) = &check {
@@ -71,12 +79,13 @@ fn write_report(
     problem_file: &Path,
     out: &Path,
     outcome: &SolveOutcome,
+    samples: &crate::stats::SampleSet,
     work: WorkJson,
     check: Option<&NumericalCheck>,
 ) -> anyhow::Result<()> {
     let json = SolutionJson::of(problem, problem_file, outcome, work, check);
     report::write_json_atomic(&out.join("solution.json"), &json)?;
-    report::write_evaluations_csv(out, problem, &outcome.evaluations)?;
+    report::write_evaluations_csv(out, problem, samples, &outcome.evaluations)?;
     super::study_plots::solve_plots(problem, out, outcome)?;
     Ok(())
 }

@@ -7,12 +7,12 @@
 //! point's `score` (the robust objective, the same on every row of a point; empty when a sample
 //! failed), `feasible` (`true`/`false`) and `failure` (why the sample or the point failed, else
 //! empty). A failed sample's metric cells are empty; +∞ (the MSE of a bit that did not advance)
-//! is written `inf`. The sample values are drawn again from the problem's laws and seed exactly
-//! as the evaluation drew them (`stats::SampleSet`), checked against each sample's seed.
+//! is written `inf`. The sample values are the evaluator's own draw (`RobustEvaluator::samples`),
+//! each checked against the sample's seed.
 
 use crate::problem::Problem;
 use crate::problem::study::METRICS;
-use crate::stats::{Distribution, SampleSet};
+use crate::stats::SampleSet;
 use crate::study::{PointEvaluation, SampleOutcome};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -20,11 +20,10 @@ use std::path::Path;
 /// The CSV text of `points` (see the module documentation).
 pub fn evaluations_csv<'a>(
     problem: &Problem,
+    samples: &SampleSet,
     points: impl IntoIterator<Item = &'a PointEvaluation>,
 ) -> String {
     let study = &problem.study;
-    let laws: Vec<Distribution> = study.uncertain.iter().map(|u| u.law).collect();
-    let samples = SampleSet::draw_or_nominal(&laws, study.samples, study.seed);
     let keys: Vec<&str> = study.uncertain.iter().map(|u| u.key.name()).collect();
 
     let mut out = String::from("omega_rpm,v0_m_per_h,sample");
@@ -80,9 +79,10 @@ pub fn evaluations_csv<'a>(
 pub fn write_evaluations_csv<'a>(
     dir: &Path,
     problem: &Problem,
+    samples: &SampleSet,
     points: impl IntoIterator<Item = &'a PointEvaluation>,
 ) -> std::io::Result<()> {
-    let text = evaluations_csv(problem, points);
+    let text = evaluations_csv(problem, samples, points);
     super::write_atomic(&dir.join("evaluations.csv"), text.as_bytes())
 }
 
@@ -195,7 +195,7 @@ cov = 0.1
         // The evaluator's draw: the problem's law, 2 samples, seed 7.
         let drawn = SampleSet::draw_or_nominal(&[problem.study.uncertain[0].law], 2, 7);
         let p = point(&drawn);
-        let text = evaluations_csv(&problem, [&p]);
+        let text = evaluations_csv(&problem, &drawn, [&p]);
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 3, "{text}");
 

@@ -98,3 +98,21 @@ pub fn small_basis() -> drillopt::model::BasisSpec {
         static_corrections: true,
     }
 }
+
+/// `drillopt simulate problems/regression/tiny_string.toml --quiet --out OUT EXTRA…`, run from the
+/// crate root.
+pub fn simulate_tiny(extra: &[&str], out: &std::path::Path) -> std::process::Output {
+    let mut args = vec![
+        "simulate",
+        "problems/regression/tiny_string.toml",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(&args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("drillopt runs")
+}
