@@ -76,7 +76,14 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
                 crate::units::to_rpm(op.omega),
                 crate::units::to_m_per_h(op.v0)
             );
-            sim::run_problem(&problem, *op, problem.simulation.duration, |_| {}).map(|r| (label, r))
+            sim::run_problem(
+                &problem,
+                sim::ModelKind::Reduced,
+                *op,
+                problem.simulation.duration,
+                |_| {},
+            )
+            .map(|r| (label, r))
         })
         .collect::<Result<_, _>>()
         .context("modal analysis")?;

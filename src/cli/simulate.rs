@@ -42,6 +42,10 @@ pub struct SimulateArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Run the finite-element model without reduction (every free DOF; a reference for the
+    /// reduced basis, for windows of a few seconds: about 100× the reduced model's cost).
+    #[arg(long)]
+    pub unreduced: bool,
 }
 
 pub(super) fn parse_override(
@@ -128,7 +132,12 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             .expect("valid template")
             .progress_chars("=> "),
     );
-    let output = sim::run_problem(&problem, op, duration, |t| {
+    let kind = if args.unreduced {
+        sim::ModelKind::Unreduced
+    } else {
+        sim::ModelKind::Reduced
+    };
+    let output = sim::run_problem(&problem, kind, op, duration, |t| {
         bar.set_position((1000.0 * t / duration) as u64);
         bar.set_message(format!("t = {t:.2} / {duration} s"));
     })
@@ -154,6 +163,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         settling_time_s: settling,
         start: problem.simulation.start.name(),
         elements: problem.mesh.elements,
+        model: kind,
         basis: output.basis,
         nominal_step_s: problem.simulation.time_step,
         max_step_s: output.max_step,
@@ -209,8 +219,14 @@ fn print_summary(s: &SummaryJson, out: &Path) {
         st.min_dt
     );
     println!(
-        "  {} start, {} elements, basis: {}",
-        s.start, s.elements, s.basis
+        "  {} start, {} elements, {}: {}",
+        s.start,
+        s.elements,
+        match s.model {
+            sim::ModelKind::Reduced => "basis",
+            sim::ModelKind::Unreduced => "unreduced, every mode of the mesh",
+        },
+        s.basis
     );
     if s.max_step_s < s.nominal_step_s {
         println!(

@@ -28,6 +28,11 @@ pub struct VerifyArgs {
     /// No progress messages.
     #[arg(long)]
     pub quiet: bool,
+    /// Also run the finite-element model without reduction ("unreduced": every free DOF of the
+    /// problem's mesh) and judge the base run against it too; it costs about 100× the base run,
+    /// so use it with a window of seconds (`--duration`).
+    #[arg(long)]
+    pub unreduced: bool,
 }
 
 pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
@@ -38,18 +43,26 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
         duration,
         settling: problem.simulation.settling_time.min(0.5 * duration),
     };
+    let mut refinements = Refinement::ALL.to_vec();
+    if args.unreduced {
+        refinements.push(Refinement::Unreduced);
+    }
     if !args.quiet {
         eprintln!(
             "verify {}: base run and {} refinements ({}) at {:.1} rpm, {:.2} m/h, {duration} s …",
             problem.name,
-            Refinement::ALL.len(),
-            Refinement::ALL.map(|r| r.name()).join(", "),
+            refinements.len(),
+            refinements
+                .iter()
+                .map(|r| r.name())
+                .collect::<Vec<_>>()
+                .join(", "),
             op.omega * 60.0 / (2.0 * PI),
             crate::units::to_m_per_h(op.v0)
         );
     }
     let quiet = args.quiet;
-    let report = verify::verify(&problem, settings, |name| {
+    let report = verify::verify_with(&problem, settings, &refinements, |name| {
         if !quiet {
             eprintln!("  {name} run done");
         }
@@ -64,7 +77,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        print_table(&report, &settings);
+        print_table(&report, &settings, &refinements);
     }
     anyhow::ensure!(
         report.converged,
@@ -96,7 +109,7 @@ pub(super) fn significant(x: f64) -> String {
     }
 }
 
-fn print_table(r: &VerifyReport, s: &VerifySettings) {
+fn print_table(r: &VerifyReport, s: &VerifySettings, refinements: &[Refinement]) {
     println!(
         "analysis window {:.3}–{:.3} s (the window refinement: to {:.3} s)\nbasis {}\nrefined basis {}",
         s.settling,
@@ -106,13 +119,13 @@ fn print_table(r: &VerifyReport, s: &VerifySettings) {
         r.refined_basis
     );
     print!("{:<22} {:>12}", "metric", "value");
-    for refinement in Refinement::ALL {
+    for refinement in refinements {
         print!(" {:>12}", refinement.name());
     }
     println!(" {:>9} {:>6}  verdict", "max chg", "limit");
     for (key, v) in &r.metrics {
         print!("{key:<22} {:>12}", significant(v.value));
-        for refinement in Refinement::ALL {
+        for refinement in refinements {
             print!(" {:>12}", significant(v.refined[refinement.name()]));
         }
         println!(

@@ -5,10 +5,12 @@
 mod adaptive;
 mod lu;
 mod newmark;
+mod sparse_lu;
 
 pub use adaptive::{AdaptiveStepper, StepCounters, StepError, StepLimits};
 pub use lu::{DenseLu, Singular};
-pub use newmark::{Newmark, NewmarkSettings, StepOutcome};
+pub use newmark::{ErrorNorm, Newmark, NewmarkSettings, StepOutcome, quadratic_form};
+pub use sparse_lu::{LinearSolver, SparseLu, SparsityPattern};
 
 use nalgebra::{DMatrix, DVector};
 

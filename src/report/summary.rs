@@ -33,6 +33,8 @@ pub struct SummaryJson<'a> {
     pub start: &'a str,
     pub elements: usize,
     /// Vectors of the reduced basis by family.
+    /// Reduced on the basis below, or unreduced (then `basis` counts every mode of the mesh).
+    pub model: crate::sim::ModelKind,
     pub basis: crate::rom::BasisCounts,
     /// The problem's nominal step and the largest step the run allowed (capped at 1/20 of the
     /// lowest torsional and axial periods), s.

@@ -44,6 +44,10 @@ pub struct BlockBasis {
     blocks: Vec<Block>,
     groups: Vec<Group>,
     dofs: usize,
+    /// When every column of Φ is a column of the identity (the unreduced model's nodal
+    /// coordinates): the row of each column. The products are then a scatter and a gather
+    /// (no blocks are stored).
+    selection: Option<Vec<usize>>,
 }
 
 /// Work vectors of the block products (one set per user, so that a shared [`BlockBasis`] needs
@@ -61,6 +65,14 @@ impl BlockBasis {
     /// Group the columns of `phi` by the family of each mode (`families[j]` for column j).
     pub fn new(phi: &DMatrix<f64>, families: &[Family]) -> Self {
         assert_eq!(families.len(), phi.ncols());
+        if let Some(rows) = selection(phi) {
+            return BlockBasis {
+                blocks: Vec::new(),
+                groups: Vec::new(),
+                dofs: phi.nrows(),
+                selection: Some(rows),
+            };
+        }
         let mut blocks: Vec<Block> = Vec::new();
         for family in Family::ALL {
             let modes: Vec<usize> = (0..phi.ncols())
@@ -109,6 +121,7 @@ impl BlockBasis {
             blocks,
             groups,
             dofs: phi.nrows(),
+            selection: None,
         }
     }
 
@@ -136,7 +149,10 @@ impl BlockBasis {
 
     /// Number of modes n.
     pub fn modes(&self) -> usize {
-        self.blocks.iter().map(|b| b.modes.len()).sum()
+        match &self.selection {
+            Some(rows) => rows.len(),
+            None => self.blocks.iter().map(|b| b.modes.len()).sum(),
+        }
     }
 
     /// Stored coefficients (zeros inside a block included).
@@ -153,12 +169,25 @@ impl BlockBasis {
     /// y = Φ x (x: n modal coordinates, y: full DOF vector).
     pub fn expand(&self, x: &DVector<f64>, y: &mut DVector<f64>, work: &mut BlockWork) {
         debug_assert_eq!(y.len(), self.dofs);
+        if let Some(rows) = &self.selection {
+            y.as_mut_slice().fill(0.0);
+            for (&i, &x) in rows.iter().zip(x.as_slice()) {
+                y[i] = x;
+            }
+            return;
+        }
         self.product(Way::Expand, x.as_slice(), y.as_mut_slice(), work);
     }
 
     /// out = Φᵀ f (f: full DOF vector, out: n modal coordinates).
     pub fn project(&self, f: &DVector<f64>, out: &mut DVector<f64>, work: &mut BlockWork) {
         debug_assert_eq!(f.len(), self.dofs);
+        if let Some(rows) = &self.selection {
+            for (o, &i) in out.as_mut_slice().iter_mut().zip(rows) {
+                *o = f[i];
+            }
+            return;
+        }
         self.product(Way::Project, f.as_slice(), out.as_mut_slice(), work);
     }
 
@@ -200,6 +229,23 @@ impl BlockBasis {
             }
         }
     }
+}
+
+/// The rows of the columns of `phi` if each is a column of the identity, distinct.
+fn selection(phi: &DMatrix<f64>) -> Option<Vec<usize>> {
+    let mut rows = Vec::with_capacity(phi.ncols());
+    let mut used = vec![false; phi.nrows()];
+    for column in phi.column_iter() {
+        let mut nonzero = column.iter().enumerate().filter(|(_, x)| **x != 0.0);
+        match (nonzero.next(), nonzero.next()) {
+            (Some((i, &x)), None) if x == 1.0 && !used[i] => {
+                used[i] = true;
+                rows.push(i);
+            }
+            _ => return None,
+        }
+    }
+    Some(rows)
 }
 
 /// Which way a product goes: Φ x (modes → rows) or Φᵀ f (rows → modes).
@@ -292,6 +338,15 @@ impl BlockBasis {
         work: &mut BlockWork,
     ) {
         debug_assert_eq!(y.nrows(), self.dofs);
+        if let Some(rows) = &self.selection {
+            for j in 0..y.ncols() {
+                let (src, mut dst) = (y.column(j), out.column_mut(j));
+                for (o, &i) in dst.iter_mut().zip(rows) {
+                    *o += src[i];
+                }
+            }
+            return;
+        }
         for ((b, g), p) in self
             .blocks
             .iter()

@@ -3,6 +3,7 @@
 mod blocks;
 mod eigen;
 mod modes;
+mod operator;
 mod padded;
 mod reduced;
 mod sparse;
@@ -10,5 +11,6 @@ mod sparse;
 pub use blocks::{BlockBasis, BlockWork};
 pub use eigen::{EigenError, generalized_symmetric_eigen};
 pub use modes::{BasisCounts, BasisError, Family, ModalBasis, Mode, ModeKind};
+pub use operator::Operator;
 pub use reduced::ReducedModel;
 pub use sparse::SparseBasis;

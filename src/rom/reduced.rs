@@ -4,11 +4,17 @@
 //! The rigid motion Q_rigid (u = V0 t, θx = Ω t at every node) carries no strain and no
 //! acceleration, but the damping acts on absolute velocities (C = c M_pipe), so C Q̇_rigid projects
 //! to a constant load; and the kinetic energy has cross terms Q̇_rigidᵀ M Φ q̇.
+//!
+//! The same equations hold for any basis Φ of full column rank once Φᵀ M Φ and Φᵀ K Φ are kept
+//! as matrices: [`ReducedModel::unreduced`] takes Φ = the free DOFs themselves (the columns of the
+//! identity), which is the finite-element model without reduction (issue 11: the reference the
+//! reduced bases are checked against), with sparse operators and a sparse Newton matrix.
 
-use super::{BasisError, BlockBasis, BlockWork, ModalBasis, SparseBasis};
+use super::{BasisError, BlockBasis, BlockWork, Family, ModalBasis, Operator, SparseBasis};
 use crate::fem::{
     BoundaryConditions, Dof, ElementInertia, ElementStrains, GlobalMatrices, StrainEnergy, assemble,
 };
+use crate::integrate::SparsityPattern;
 use crate::model::{BasisSpec, Drillstring};
 use faer::Par;
 use nalgebra::{DMatrix, DVector};
@@ -26,10 +32,16 @@ pub struct ReducedModel {
     pub blocks: BlockBasis,
     /// Φ by its non-zeros (each mode lives on its family's DOFs only).
     pub sparse: SparseBasis,
-    /// Λ = diag(ω²) = Φᵀ K Φ, 1/s².
+    /// ω² of the modes of `basis`, 1/s² (for the unreduced model: of every mode).
     pub omega2: DVector<f64>,
-    /// c Φᵀ M_pipe Φ, 1/s.
-    pub damping: DMatrix<f64>,
+    /// Φᵀ M Φ: the identity for mass-normalised modes.
+    pub mass: Operator,
+    /// Φᵀ K Φ: Λ = diag(ω²) for modes.
+    pub stiffness: Operator,
+    /// c Φᵀ M_pipe Φ, 1/s (modal coordinates) or N·s/m and N·m·s/rad (nodal).
+    pub damping: Operator,
+    /// The non-zeros the Newton matrix can have, when it is sparse (the unreduced model).
+    pub jacobian_pattern: Option<SparsityPattern>,
     /// Φᵀ F_gravity.
     pub gravity: DVector<f64>,
     /// Φᵀ C e_u and Φᵀ C e_θx (e: unit rigid axial / spin velocity): the damping of the rigid motion.
@@ -51,6 +63,14 @@ fn to_na(m: &faer::Mat<f64>) -> DMatrix<f64> {
     DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)])
 }
 
+/// The operators that differ between modal and nodal coordinates.
+struct Operators {
+    mass: Operator,
+    stiffness: Operator,
+    damping: Operator,
+    jacobian_pattern: Option<SparsityPattern>,
+}
+
 impl ReducedModel {
     /// Assemble, build the basis `spec` and project.
     pub fn new(
@@ -61,13 +81,73 @@ impl ReducedModel {
         let global = assemble(string, elements);
         let bc = BoundaryConditions::drillstring(elements);
         let basis = ModalBasis::of(&global, &bc, spec, Par::Seq)?;
-        let modes = basis.len();
         let phi = to_na(&basis.shapes);
         let families: Vec<_> = basis.modes.iter().map(|m| m.family).collect();
+        let omega2 =
+            DVector::from_iterator(basis.len(), basis.modes.iter().map(|m| m.omega * m.omega));
+        let pipe_mass = to_na(&global.pipe_mass);
+        let damping = Operator::Dense(phi.transpose() * (&pipe_mass * &phi) * string.damping);
+        let operators = Operators {
+            mass: Operator::Identity,
+            stiffness: Operator::Diagonal(omega2.clone()),
+            damping,
+            jacobian_pattern: None,
+        };
+        Ok(Self::project(
+            string, global, bc, basis, phi, &families, omega2, operators,
+        ))
+    }
+
+    /// The finite-element model without reduction: the generalised coordinates are the free
+    /// DOFs (Φ = their columns of the identity, node-major), the mass and stiffness are the
+    /// assembled ones restricted to them, and the Newton matrix is sparse (the DOFs of
+    /// neighbouring nodes only). `basis` holds every mode of the mesh, for the frequencies the step
+    /// rule needs and for the reports (it does not enter the equations).
+    pub fn unreduced(string: &Drillstring, elements: usize) -> Result<Self, BasisError> {
+        let global = assemble(string, elements);
+        let bc = BoundaryConditions::drillstring(elements);
+        let free = bc.free_dofs();
+        let n = free.len();
+        let basis = ModalBasis::of(&global, &bc, &BasisSpec::Lowest(n), Par::Seq)?;
+        let omega2 = DVector::from_iterator(n, basis.modes.iter().map(|m| m.omega * m.omega));
+        let mut phi = DMatrix::zeros(global.dof(), n);
+        for (j, &i) in free.iter().enumerate() {
+            phi[(i, j)] = 1.0;
+        }
+        let families: Vec<Family> = free.iter().map(|&i| Family::of(Dof::of_index(i))).collect();
+        let restrict = |a: &faer::Mat<f64>| DMatrix::from_fn(n, n, |r, c| a[(free[r], free[c])]);
+        let node = |j: usize| free[j] / crate::fem::DOF_PER_NODE;
+        // Column j couples with the DOFs of its own node and of the neighbouring nodes.
+        let pattern = SparsityPattern::new(n, |j| {
+            (0..n).filter(|&i| node(i).abs_diff(node(j)) <= 1).collect()
+        });
+        let operators = Operators {
+            mass: Operator::sparse_from(&restrict(&global.mass)),
+            stiffness: Operator::sparse_from(&restrict(&global.stiffness)),
+            damping: Operator::sparse_from(&(restrict(&global.pipe_mass) * string.damping)),
+            jacobian_pattern: Some(pattern),
+        };
+        Ok(Self::project(
+            string, global, bc, basis, phi, &families, omega2, operators,
+        ))
+    }
+
+    /// The projections common to every basis.
+    #[allow(clippy::too_many_arguments)]
+    fn project(
+        string: &Drillstring,
+        global: GlobalMatrices,
+        bc: BoundaryConditions,
+        basis: ModalBasis,
+        phi: DMatrix<f64>,
+        families: &[Family],
+        omega2: DVector<f64>,
+        operators: Operators,
+    ) -> Self {
+        let elements = global.elements;
+        let modes = phi.ncols();
         let mass = to_na(&global.mass);
         let pipe_mass = to_na(&global.pipe_mass);
-        let omega2 = DVector::from_iterator(modes, basis.modes.iter().map(|m| m.omega * m.omega));
-        let damping = phi.transpose() * (&pipe_mass * &phi) * string.damping;
         let gravity = phi.transpose() * DVector::from_fn(global.dof(), |i, _| global.gravity[i]);
         let unit = |dof: Dof| {
             DVector::from_fn(global.dof(), |i, _| {
@@ -92,16 +172,25 @@ impl ReducedModel {
         }
         let strain_law = StrainEnergy::of(string);
         let element_strains = ElementStrains::new(&global.element);
-        Ok(ReducedModel {
+        let Operators {
+            mass: reduced_mass,
+            stiffness,
+            damping,
+            jacobian_pattern,
+        } = operators;
+        ReducedModel {
             string: string.clone(),
             global,
             bc,
             basis,
-            blocks: BlockBasis::new(&phi, &families),
+            blocks: BlockBasis::new(&phi, families),
             sparse: SparseBasis::new(&phi),
             phi,
             omega2,
+            mass: reduced_mass,
+            stiffness,
             damping,
+            jacobian_pattern,
             gravity,
             rigid_damping,
             rigid_mass,
@@ -111,7 +200,12 @@ impl ReducedModel {
             strain_law,
             element_strains,
             element_inertia,
-        })
+        }
+    }
+
+    /// Whether the coordinates are the free DOFs themselves (no reduction).
+    pub fn is_unreduced(&self) -> bool {
+        self.jacobian_pattern.is_some()
     }
 
     /// Number of reduced coordinates n.

@@ -12,7 +12,7 @@ use super::{BitLoad, NodeContact, wall_contact};
 use crate::fem::{Dof, ElementVector};
 use crate::integrate::{ImplicitSystem, JacobianCoefficients, copy_vector};
 use crate::model::OperatingPoint;
-use crate::rom::{BlockWork, ReducedModel};
+use crate::rom::{BlockWork, Operator, ReducedModel};
 use nalgebra::{DMatrix, DVector};
 
 /// Which physical effects are on (all on for a real run; tests switch some off).
@@ -129,11 +129,11 @@ impl<'m> Dynamics<'m> {
                 DVector::zeros(n),
             ],
             element_energies: (0.0, 0.0),
-            strain_tangent: DMatrix::from_diagonal(&model.omega2),
-            damping_gyroscopic: if effects.damping {
-                &model.damping + &model.gyroscopic * op.omega
-            } else {
-                &model.gyroscopic * op.omega
+            strain_tangent: model.stiffness.to_dense(n),
+            damping_gyroscopic: match (&model.damping, effects.damping) {
+                (Operator::Dense(d), true) => d + &model.gyroscopic * op.omega,
+                (d, true) => d.to_dense(n) + &model.gyroscopic * op.omega,
+                (_, false) => &model.gyroscopic * op.omega,
             },
             scratch: DMatrix::zeros(ndof, n),
             contacts: vec![NodeContact::default(); model.nodes()],
@@ -319,7 +319,7 @@ impl<'m> Dynamics<'m> {
         };
         let (top_force, top_torque) = (top(0), top(1));
         // Energies.
-        let mut kinetic = 0.5 * v.norm_squared();
+        let mut kinetic = 0.5 * m.mass.quadratic(v);
         let mut dissipation = 0.0;
         for (k, &r) in rigid.iter().enumerate() {
             kinetic += r * m.rigid_mass[k].dot(v) + 0.5 * r * r * m.rigid_self_mass[k];
@@ -329,9 +329,14 @@ impl<'m> Dynamics<'m> {
             }
         }
         if self.effects.damping {
-            // q̇ᵀ D q̇ column by column (no temporary vector).
-            for (j, vj) in v.iter().enumerate() {
-                dissipation += vj * m.damping.column(j).dot(v);
+            match &m.damping {
+                // q̇ᵀ D q̇ column by column (no temporary vector).
+                Operator::Dense(d) => {
+                    for (j, vj) in v.iter().enumerate() {
+                        dissipation += vj * d.column(j).dot(v);
+                    }
+                }
+                d => dissipation += d.quadratic(v),
             }
         }
         let (strain, kinetic_nl) = self.element_energies;
@@ -431,9 +436,9 @@ impl ImplicitSystem for Dynamics<'_> {
         self.evaluate(q, v, a);
         let m = self.model;
         m.blocks.project(&self.f_full, out, &mut self.blocks);
-        *out += a;
+        m.mass.mul_add(1.0, a, out);
         if self.effects.damping {
-            out.gemv(1.0, &m.damping, v, 1.0);
+            m.damping.mul_add(1.0, v, out);
             out.axpy(self.op.v0, &m.rigid_damping[0], 1.0);
             out.axpy(self.op.omega, &m.rigid_damping[1], 1.0);
         }
@@ -466,18 +471,29 @@ impl ImplicitSystem for Dynamics<'_> {
                 false,
             );
         }
-        // cq K_t + cv (D + Ω G) + ca I, in one pass over the (column-major) storage.
-        let terms = self
-            .strain_tangent
-            .as_slice()
-            .iter()
-            .zip(self.damping_gyroscopic.as_slice());
-        for (x, (&k, &d)) in out.as_mut_slice().iter_mut().zip(terms) {
-            *x = c.cq * k + c.cv * d;
+        // cq K_t + cv (D + Ω G) + ca M, in one pass over the (column-major) storage, or over the
+        // pattern of a sparse Newton matrix (zero elsewhere, in `out` too).
+        match &m.jacobian_pattern {
+            None => {
+                let terms = self
+                    .strain_tangent
+                    .as_slice()
+                    .iter()
+                    .zip(self.damping_gyroscopic.as_slice());
+                for (x, (&k, &d)) in out.as_mut_slice().iter_mut().zip(terms) {
+                    *x = c.cq * k + c.cv * d;
+                }
+            }
+            Some(pattern) => {
+                for (j, rows) in pattern.columns().enumerate() {
+                    for &i in rows {
+                        out[(i, j)] = c.cq * self.strain_tangent[(i, j)]
+                            + c.cv * self.damping_gyroscopic[(i, j)];
+                    }
+                }
+            }
         }
-        for i in 0..out.nrows() {
-            out[(i, i)] += c.ca;
-        }
+        m.mass.add_to(c.ca, out);
         // Wall contact at the nodes touching, from the last residual evaluation: −∂F/∂(q, q̇),
         // a rank-two term P W Pᵀ per node with P = [φ(v), φ(w)] (the rows of Φ for the node's
         // lateral DOFs), added densely column by column (vectorised).

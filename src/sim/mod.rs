@@ -13,9 +13,9 @@ pub use contact::{NodeContact, wall_contact};
 pub use dynamics::{Dynamics, Effects, Observation};
 pub use envelope::StressEnvelope;
 pub use run::{
-    IMPACT_SEPARATION, IMPACT_SPEED, InitialState, RunOutput, RunSettings, STEPS_PER_PERIOD,
-    SimulationError, SolverStats, preloaded_equilibrium, resolving_step, run_problem, simulate,
-    static_equilibrium,
+    IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,
+    STEPS_PER_PERIOD, SimulationError, SolverStats, preloaded_equilibrium, resolving_step,
+    run_problem, simulate, static_equilibrium,
 };
 pub use series::{CHANNELS, Channel, Frame, TimeSeries};
 

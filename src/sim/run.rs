@@ -16,11 +16,11 @@ use super::{Dynamics, Effects, NodeContact, Observation, TimeSeries};
 use crate::fem::Dof;
 use crate::fem::SectionStress;
 use crate::integrate::{
-    AdaptiveStepper, DenseLu, ImplicitSystem, JacobianCoefficients, Newmark, NewmarkSettings,
-    StepError, StepLimits,
+    AdaptiveStepper, DenseLu, ImplicitSystem, JacobianCoefficients, LinearSolver, Newmark,
+    NewmarkSettings, SparseLu, StepError, StepLimits,
 };
 use crate::model::OperatingPoint;
-use crate::rom::ReducedModel;
+use crate::rom::{Operator, ReducedModel};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use std::time::Instant;
@@ -206,7 +206,11 @@ fn equilibrium(
     let mut sys = Dynamics::new(model, op, effects);
     let n = model.size();
     let (mut q, zero) = (DVector::zeros(n), DVector::zeros(n));
-    let (mut r, mut j, mut lu) = (DVector::zeros(n), DMatrix::zeros(n, n), DenseLu::new(n));
+    let mut lu = match &model.jacobian_pattern {
+        Some(pattern) => LinearSolver::Sparse(Box::new(SparseLu::new(pattern))),
+        None => LinearSolver::Dense(DenseLu::new(n)),
+    };
+    let (mut r, mut j) = (DVector::zeros(n), DMatrix::zeros(n, n));
     let gap = model.string.gap();
     let mut dq_full = DVector::zeros(model.phi.nrows());
     let coefficients = JacobianCoefficients {
@@ -386,6 +390,31 @@ pub fn resolving_step(model: &ReducedModel) -> f64 {
     }
 }
 
+/// The Newmark integrator of `model` from (q0, q̇0) at t = 0, with the energy norm in its error
+/// and Newton tests (modal coordinates: weights ω_i, floored at the lowest mode's so that no
+/// coordinate is ignored; nodal coordinates: √(qᵀ K q), the same norm) and, for the unreduced
+/// model, a sparse LU of its Newton matrices.
+fn integrator(
+    model: &ReducedModel,
+    settings: crate::integrate::NewmarkSettings,
+    q0: DVector<f64>,
+    v0: DVector<f64>,
+) -> Newmark {
+    let n = model.size();
+    let nm = Newmark::new(settings, 0.0, q0, v0, DVector::zeros(n));
+    let nm = match &model.stiffness {
+        Operator::Sparse(k) => nm.with_energy_norm(k.clone()),
+        _ => {
+            let floor = model.omega2.min().max(1e-12).sqrt();
+            nm.with_weights(model.omega2.map(|w2| w2.sqrt().max(floor)))
+        }
+    };
+    match &model.jacobian_pattern {
+        Some(pattern) => nm.with_sparse_jacobian(pattern),
+        None => nm,
+    }
+}
+
 /// Run the model at operating point `op` with the given effects.
 pub fn simulate(
     model: &ReducedModel,
@@ -445,11 +474,7 @@ pub fn simulate(
         }
     };
     let mut sys = Dynamics::new(model, op, effects);
-    // Energy-norm weights: ω_i, floored at the lowest mode's so that no coordinate is ignored.
-    let floor = model.omega2.min().max(1e-12).sqrt();
-    let weights = model.omega2.map(|w2| w2.sqrt().max(floor));
-    let mut nm =
-        Newmark::new(settings.newmark, 0.0, q0, v0, DVector::zeros(n)).with_weights(weights);
+    let mut nm = integrator(model, settings.newmark, q0, v0);
     let mut error = None;
     if !nm.consistent_acceleration(&mut sys) {
         error = Some(SimulationError::NonFinite { time: 0.0 });
@@ -510,16 +535,43 @@ pub fn simulate(
     }
 }
 
-/// Build the reduced model of a problem and run it at `op` for `duration` seconds (all effects,
+/// Which model of a problem runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModelKind {
+    /// Reduced on the problem's basis (`[mesh.basis]` or `mesh.reduced_modes`): every study.
+    Reduced,
+    /// The finite-element model without reduction (all free DOFs, sparse Newton matrices): the
+    /// reference the reduced bases are checked against, affordable for windows of seconds.
+    Unreduced,
+}
+
+impl ModelKind {
+    /// The model of `problem` of this kind.
+    pub fn build(
+        self,
+        problem: &crate::problem::Problem,
+    ) -> Result<ReducedModel, crate::rom::BasisError> {
+        match self {
+            ModelKind::Reduced => {
+                ReducedModel::new(&problem.model, problem.mesh.elements, &problem.mesh.basis)
+            }
+            ModelKind::Unreduced => ReducedModel::unreduced(&problem.model, problem.mesh.elements),
+        }
+    }
+}
+
+/// Build the model of a problem (reduced or not) and run it at `op` for `duration` seconds (all effects,
 /// from the problem's start), with the problem's nominal step and probes, and the stress envelope
 /// from the analysis window's start (the settling time, at most half the run).
 pub fn run_problem(
     problem: &crate::problem::Problem,
+    kind: ModelKind,
     op: OperatingPoint,
     duration: f64,
     progress: impl FnMut(f64),
 ) -> Result<RunOutput, crate::rom::BasisError> {
-    let model = ReducedModel::new(&problem.model, problem.mesh.elements, &problem.mesh.basis)?;
+    let model = kind.build(problem)?;
     let mut settings = RunSettings::new(duration, problem.simulation.time_step);
     settings.probes = problem.simulation.probes.clone();
     settings.envelope_from = problem.simulation.settling_time.min(0.5 * duration);

@@ -147,6 +147,9 @@ pub enum Refinement {
     Mesh,
     Tolerance,
     Window,
+    /// The finite-element model without reduction, on the problem's mesh (opt-in: `verify
+    /// --unreduced`; it costs about 100× the reduced run).
+    Unreduced,
 }
 
 impl Refinement {
@@ -163,6 +166,7 @@ impl Refinement {
             Refinement::Mesh => "mesh",
             Refinement::Tolerance => "tolerance",
             Refinement::Window => "window",
+            Refinement::Unreduced => "unreduced",
         }
     }
 }
@@ -245,6 +249,7 @@ pub struct VerifySettings {
 /// One run's description.
 struct Variant {
     name: &'static str,
+    unreduced: bool,
     elements: usize,
     basis: BasisSpec,
     duration: f64,
@@ -270,6 +275,7 @@ pub fn verify_with(
 ) -> Result<VerifyReport, VerifyError> {
     let base = Variant {
         name: "base",
+        unreduced: false,
         elements: problem.mesh.elements,
         basis: problem.mesh.basis.clone(),
         duration: settings.duration,
@@ -280,6 +286,7 @@ pub fn verify_with(
         .chain(refinements.iter().map(|&r| {
             let mut v = Variant {
                 name: r.name(),
+                unreduced: false,
                 elements: problem.mesh.elements,
                 basis: problem.mesh.basis.clone(),
                 duration: settings.duration,
@@ -290,6 +297,7 @@ pub fn verify_with(
                 Refinement::Mesh => v.elements *= 2,
                 Refinement::Tolerance => v.tolerance_divisor = TOLERANCE_DIVISOR,
                 Refinement::Window => v.duration = settings.settling + 2.0 * window,
+                Refinement::Unreduced => v.unreduced = true,
             }
             v
         }))
@@ -355,11 +363,14 @@ fn run_variant(
     settings: &VerifySettings,
     v: &Variant,
 ) -> Result<(VerifyRun, Metrics), VerifyError> {
-    let model = ReducedModel::new(&problem.model, v.elements, &v.basis).map_err(|source| {
-        VerifyError::Basis {
-            run: v.name,
-            source,
-        }
+    let model = if v.unreduced {
+        ReducedModel::unreduced(&problem.model, v.elements)
+    } else {
+        ReducedModel::new(&problem.model, v.elements, &v.basis)
+    }
+    .map_err(|source| VerifyError::Basis {
+        run: v.name,
+        source,
     })?;
     let mut run = RunSettings::new(v.duration, problem.simulation.time_step);
     run.envelope_from = settings.settling;
