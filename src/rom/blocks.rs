@@ -474,4 +474,31 @@ mod tests {
             );
         }
     }
+
+    /// Columns of the identity (the unreduced model): scatter and gather, equal to the dense
+    /// products; a matrix that is not a selection keeps the blocks.
+    #[test]
+    fn a_selection_of_dofs_is_a_scatter_and_a_gather() {
+        let rows = [0usize, 2, 3, 7];
+        let phi = DMatrix::from_fn(9, 4, |i, j| if rows[j] == i { 1.0 } else { 0.0 });
+        let families = [Family::Axial, Family::BendingY, Family::Torsional, Family::Axial];
+        let blocks = BlockBasis::new(&phi, &families);
+        assert_eq!(blocks.selection.as_deref(), Some(&rows[..]));
+        assert_eq!(blocks.modes(), 4);
+        let mut work = blocks.workspace();
+        let x = DVector::from_fn(4, |j, _| j as f64 + 0.5);
+        let f = DVector::from_fn(9, |i, _| (i as f64).sin());
+        let (mut y, mut p) = (DVector::from_element(9, 9.0), DVector::zeros(4));
+        blocks.expand(&x, &mut y, &mut work);
+        blocks.project(&f, &mut p, &mut work);
+        assert_eq!(y, &phi * &x);
+        assert_eq!(p, phi.transpose() * &f);
+        let scratch = DMatrix::from_fn(9, 4, |i, j| (i * 4 + j) as f64);
+        let mut out = DMatrix::from_element(4, 4, 1.0);
+        blocks.add_projected_columns(&scratch, &mut out, &mut work);
+        assert_eq!(out, DMatrix::from_element(4, 4, 1.0) + phi.transpose() * &scratch);
+        let mut scaled = phi.clone();
+        scaled[(7, 3)] = 2.0;
+        assert!(BlockBasis::new(&scaled, &families).selection.is_none());
+    }
 }
