@@ -55,6 +55,9 @@ pub fn assemble(string: &Drillstring, elements: usize) -> GlobalMatrices {
             }
         }
     }
+    // The bit's polar inertia, lumped on θx of the bit node (not in the pipe mass: not damped).
+    let bit_spin = DOF_PER_NODE * elements + crate::fem::Dof::ThetaX as usize;
+    mass[(bit_spin, bit_spin)] += string.bit_inertia;
     GlobalMatrices {
         mass,
         pipe_mass,

@@ -63,6 +63,18 @@ pub struct Drillstring {
     pub wall: WallContact,
     /// The bit–rock interaction law and its parameters (MODEL.md §6).
     pub bit: super::BitRock,
+    /// Polar moment of inertia of the bit (and of whatever turns with it below the last node),
+    /// lumped on θx of the bit node, kg·m² (`[model.bit] inertia`; 0, the paper's model, when
+    /// absent). Not in the paper: with none, the bit node of the unreduced finite-element model
+    /// chatters at the element scale under the velocity-weakening bit torque (README,
+    /// "Converged model"). Left out of the serialised model when 0, so that the model hash of a
+    /// problem without it is unchanged.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub bit_inertia: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl Drillstring {

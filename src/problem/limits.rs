@@ -26,6 +26,11 @@ pub fn range_of(key: &str) -> Option<Range> {
         "model.pipe.inner_radius" => closed(0.0, 1.0, "a pipe bore of at most 2 m"),
         "model.pipe.outer_radius" => open(0.0, 1.0, "a pipe of at most 2 m across"),
         "model.pipe.yield_strength" => open(0.0, 3e9, "at most the strongest steels, 3 GPa"),
+        "model.bit.inertia" => closed(
+            0.0,
+            1e3,
+            "at most 1000 kg·m² (a 12¼ in bit is about 1 kg·m², a whole BHA tens to hundreds)",
+        ),
         "model.wall.sign_smoothing" => open(0.0, 10.0, "small against the rotation speed"),
         "operating_point.omega" => closed(
             crate::units::from_rpm(1.0),

@@ -114,6 +114,8 @@ pub struct WallSection {
 pub struct BitSection {
     /// The law's name; the seed paper's `"exponential"` when omitted.
     pub law: Option<String>,
+    /// Polar moment of inertia of the bit, lumped at the bit node (not a parameter of the law).
+    pub inertia: Option<RawQuantity>,
     /// Every other key of the table: the law's parameters by name.
     #[serde(flatten)]
     pub parameters: std::collections::BTreeMap<String, RawQuantity>,

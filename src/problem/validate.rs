@@ -403,7 +403,12 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         },
     };
     let bit = bit_rock(c, &m.bit)?;
+    let bit_inertia = match &m.bit.inertia {
+        Some(j) => c.non_negative("model.bit.inertia", j, MomentOfInertia)?,
+        None => 0.0,
+    };
     Ok(Drillstring {
+        bit_inertia,
         length,
         pipe,
         fluid_density,

@@ -308,7 +308,8 @@ mod tests {
                 .twins(),
             1
         );
-        // Gyroscopic matrix is skew; the rigid masses are the string's mass and polar inertia.
+        // Gyroscopic matrix is skew; the rigid masses are the string's mass and polar inertia,
+        // the latter with the bit's (lumped at the bit node).
         assert!(
             (&r.gyroscopic + r.gyroscopic.transpose()).abs().max()
                 < 1e-12 * r.gyroscopic.abs().max().max(1e-30)
@@ -316,8 +317,8 @@ mod tests {
         let l = p.model.length;
         let sec = crate::model::Section::of(&p.model);
         assert!((r.rigid_self_mass[0] - sec.pipe_mass * l).abs() < 1e-10 * sec.pipe_mass * l);
-        assert!(
-            (r.rigid_self_mass[1] - sec.polar_inertia * l).abs() < 1e-10 * sec.polar_inertia * l
-        );
+        let spin = sec.polar_inertia * l + p.model.bit_inertia;
+        assert!(p.model.bit_inertia > 0.0);
+        assert!((r.rigid_self_mass[1] - spin).abs() < 1e-10 * spin);
     }
 }

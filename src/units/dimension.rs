@@ -52,6 +52,8 @@ pub enum Dimension {
     Stiffness,
     /// Cubic stiffness, SI unit N/m³.
     CubicStiffness,
+    /// Mass moment of inertia, SI unit kg·m².
+    MomentOfInertia,
 }
 
 impl Dimension {
@@ -117,6 +119,14 @@ impl Dimension {
             Dimension::InverseVelocity => &[("s/m", 1.0)],
             Dimension::Stiffness => &[("N/m", 1.0), ("kN/m", 1e3), ("MN/m", 1e6)],
             Dimension::CubicStiffness => &[("N/m3", 1.0), ("N/m^3", 1.0)],
+            Dimension::MomentOfInertia => &[
+                ("kg m^2", 1.0),
+                ("kg*m^2", 1.0),
+                ("kg·m²", 1.0),
+                ("kg m2", 1.0),
+                // lbm·ft²: 0.45359237 kg × 0.3048² m² (NIST SP 811, B.8: 4.214011 E−02).
+                ("lbm ft^2", 0.045_359_237 * 0.929_030_4),
+            ],
         }
     }
 
