@@ -31,21 +31,6 @@ pub const API_GRADES: [(&str, f64); 4] = [
     ("S-135", 135.0 * 6.894_757_293_168e6),
 ];
 
-/// Wall contact and friction at every node (MODEL.md §5, Eqs. (2), (3)).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct WallContact {
-    /// Linear contact stiffness k_FS1, N/m.
-    pub stiffness: f64,
-    /// Cubic contact stiffness k_FS2, N/m³.
-    pub cubic_stiffness: f64,
-    /// Hunt–Crossley damping c_FS, N·s/m⁴ (the force is c_FS |δ|³ δ̇).
-    pub damping: f64,
-    /// Coulomb friction coefficient μ_FS, dimensionless.
-    pub friction: f64,
-    /// Angular velocity ε of the smooth sign, sgn(ω) ≈ tanh(ω/ε), rad/s.
-    pub sign_smoothing: f64,
-}
-
 /// The drillstring, borehole and environment.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Drillstring {
@@ -60,7 +45,8 @@ pub struct Drillstring {
     pub damping: f64,
     /// Gravitational acceleration g, m/s², acting along −z.
     pub gravity: f64,
-    pub wall: WallContact,
+    /// The wall contact law and its parameters (MODEL.md §5).
+    pub wall: super::WallContact,
     /// The bit–rock interaction law and its parameters (MODEL.md §6).
     pub bit: super::BitRock,
 }
