@@ -66,7 +66,7 @@ fn the_key_changes_with_everything_that_moves_a_simulation_and_nothing_else() {
 
 /// The canonical form of a problem, and with it the key of its cached results, does not change
 /// with the code's structure: these are the keys of three shipped problems at revision 4 (the
-/// wall law became selectable without changing them). If this test
+/// wall law became selectable and the annulus fluid was added without changing them). If this test
 /// fails while the golden run below passes, the canonical form changed and every cache of
 /// these problems would be recomputed: keep a new key or model field out of the canonical form
 /// when it has its default value.

@@ -37,7 +37,8 @@ impl ParameterSpec {
 /// Which operators of the discretised model a parameter enters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Enters {
-    /// The linear operators K, M, C: a changed value needs its own modes.
+    /// The linear operators K, M, C or the gravity load: a changed value needs its own reduced
+    /// model.
     LinearOperators,
     /// Only the nonlinear forces (bit, wall contact, borehole gap): the modes are shared.
     NonlinearForces,
@@ -92,7 +93,7 @@ use Dimension as D;
 use Enters::{LinearOperators as Linear, NonlinearForces as Nonlinear};
 
 /// The string's parameters a study may declare uncertain.
-pub static STRING_PARAMETERS: [StringParameter; 5] = [
+pub static STRING_PARAMETERS: [StringParameter; 6] = [
     row(
         "model.pipe.damping",
         D::Rate,
@@ -128,6 +129,15 @@ pub static STRING_PARAMETERS: [StringParameter; 5] = [
         Linear,
         |s| &mut s.fluid_density,
         "drilling-fluid density ρ_f (added lateral mass)",
+    ),
+    row(
+        "model.fluid.annulus_density",
+        D::Density,
+        Range::closed(0.0, 3e3, "from none (0) to the heaviest muds"),
+        1200.0,
+        Linear,
+        |s| &mut s.annulus_density,
+        "density ρ_a of the fluid in the annulus (buoyancy: gravity load)",
     ),
     StringParameter {
         above: Some((|s| s.pipe.outer_radius, "the pipe's outer radius")),
@@ -295,6 +305,10 @@ mod tests {
         let s = seed();
         let k = |key| ParameterKey::resolve(key, &s).unwrap();
         assert_eq!(k("model.pipe.density").enters(), Enters::LinearOperators);
+        assert_eq!(
+            k("model.fluid.annulus_density").enters(),
+            Enters::LinearOperators
+        );
         assert_eq!(k("model.bit.rate").enters(), Enters::NonlinearForces);
         assert_eq!(k("model.borehole.radius").enters(), Enters::NonlinearForces);
         assert_eq!(k("model.wall.stiffness").enters(), Enters::NonlinearForces);

@@ -37,8 +37,15 @@ pub struct Drillstring {
     /// Length L from the top drive (x = 0) to the bit (x = L), m.
     pub length: f64,
     pub pipe: Pipe,
-    /// Drilling fluid density ρ_f, kg/m³ (adds lateral mass ρ_f A_f only).
+    /// Density ρ_f of the drilling fluid inside the pipe, kg/m³: it adds lateral mass ρ_f A_f and
+    /// its weight ρ_f A_f g to the string (MODEL.md §3).
     pub fluid_density: f64,
+    /// Density ρ_a of the fluid in the annulus, outside the pipe, kg/m³; 0 (the default, the
+    /// seed paper's model) for none. It buoys the string: the gravity load becomes the buoyed
+    /// weight (ρA + ρ_f A_f − ρ_a π R_ext²) g, see [`super::Section::weight_mass`]. Left out of
+    /// the canonical form (cache keys) when 0, so a problem without it keeps its key.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub annulus_density: f64,
     /// Borehole radius R_bh, m.
     pub borehole_radius: f64,
     /// Mass-proportional damping c, 1/s (C = c · M_pipe).
@@ -49,6 +56,11 @@ pub struct Drillstring {
     pub wall: super::WallContact,
     /// The bit–rock interaction law and its parameters (MODEL.md §6).
     pub bit: super::BitRock,
+}
+
+/// Whether a value is 0 (`serde(skip_serializing_if)`).
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl Drillstring {

@@ -89,7 +89,10 @@ pub struct PipeSection {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FluidSection {
+    /// The drilling fluid inside the pipe.
     pub density: RawQuantity,
+    /// The fluid in the annulus, outside the pipe (buoyancy); none when omitted.
+    pub annulus_density: Option<RawQuantity>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -375,6 +375,10 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     };
     let pipe = pipe(c, &m.pipe)?;
     let fluid_density = c.non_negative("model.fluid.density", &m.fluid.density, Density)?;
+    let annulus_density = match &m.fluid.annulus_density {
+        Some(raw) => c.non_negative("model.fluid.annulus_density", raw, Density)?,
+        None => 0.0,
+    };
     let borehole_radius = c.positive("model.borehole.radius", &m.borehole.radius, Length)?;
     c.check(
         "model.borehole.radius",
@@ -393,6 +397,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         length,
         pipe,
         fluid_density,
+        annulus_density,
         borehole_radius,
         damping,
         gravity,
