@@ -29,7 +29,7 @@ fn weightless_undamped_seed(extra_pipe: &str) -> Problem {
 #[test]
 fn steady_drilling_stresses_match_the_closed_form_along_the_whole_string() {
     let p = weightless_undamped_seed("yield_strength = \"S-135\"");
-    assert_eq!(p.model.wall.friction, 0.0);
+    assert_eq!(p.model.wall.get("friction"), Some(0.0));
     assert_eq!(p.model.gravity, 0.0);
     let model = ReducedModel::new(&p.model, p.mesh.elements, &p.mesh.basis).unwrap();
     let op = OperatingPoint {

@@ -154,10 +154,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     // A window too short to batch keeps its metrics and goes without intervals.
     let confidence_95 = metrics::batch_means(&output.series, &config).ok();
     let summary = SummaryJson {
-        problem: &problem.name,
-        problem_file: args.problem.display().to_string(),
-        record: ProblemRecord::of(&problem),
-        version: crate::VERSION,
+        record: ProblemRecord::of(&problem, &args.problem),
         operating_point: report::PointJson::at(op),
         duration_s: duration,
         settling_time_s: settling,
@@ -209,7 +206,7 @@ fn print_summary(s: &SummaryJson, out: &Path) {
     let st = s.solver;
     println!(
         "{}: Ω = {:.2} rpm, V0 = {:.3} m/h, {} s simulated in {:.1} s ({} steps, {} rejected, min dt {:.2e} s)",
-        s.problem,
+        s.record.problem,
         s.operating_point.omega_rpm,
         s.operating_point.v0_m_per_h,
         s.duration_s,

@@ -96,9 +96,10 @@ impl BeamElement {
         })
     }
 
-    /// Consistent gravity load, Eq. (15): −(ρA + ρ_f A_f) g on w, N and N·m.
+    /// Consistent gravity load, Eq. (15) with buoyancy: −(ρA + ρ_f A_f − ρ_a π R_ext²) g on w
+    /// ([`Section::weight_mass`]; the paper's −(ρA + ρ_f A_f) g without annulus fluid), N and N·m.
     pub fn gravity_load(&self, gravity: f64) -> ElementVector {
-        let q = -self.section.lateral_mass() * gravity;
+        let q = -self.section.weight_mass() * gravity;
         let (xs, ws) = gauss_legendre_4(self.length);
         xs.iter()
             .zip(ws)
@@ -136,6 +137,7 @@ mod tests {
             torsional_rigidity: 7.2e5,
             pipe_mass: 49.64,
             fluid_mass: 6.03,
+            displaced_mass: 0.0,
             rotary_inertia: 0.0645,
             polar_inertia: 0.129,
         }
@@ -182,5 +184,23 @@ mod tests {
         for i in [0, 1, 3, 5, 6, 7, 9, 11] {
             assert_eq!(f[i], 0.0);
         }
+    }
+
+    #[test]
+    fn an_annulus_fluid_lifts_the_element_by_the_weight_of_the_fluid_it_displaces() {
+        let (h, rho_a, r_ext) = (0.4, 1200.0, 0.06);
+        let displaced = rho_a * std::f64::consts::PI * r_ext * r_ext;
+        let buoyed = Section {
+            displaced_mass: displaced,
+            ..section()
+        };
+        let f = BeamElement::new(h, buoyed).gravity_load(9.81);
+        let weight = -(49.64 + 6.03 - displaced) * 9.81 * h;
+        assert_relative_eq!(f[2] + f[8], weight, max_relative = 1e-14);
+        // Without annulus fluid the load is the paper's, to the last bit.
+        let paper = BeamElement::new(h, section()).gravity_load(9.81);
+        let q = -section().lateral_mass() * 9.81;
+        assert_relative_eq!(paper[2] + paper[8], q * h, max_relative = 1e-14);
+        assert_eq!(section().weight_mass(), section().lateral_mass());
     }
 }

@@ -1,16 +1,19 @@
-//! The physical model of the drillstring: validated parameters (MODEL.md §1, §5, §6) and the
+//! The physical model of the drillstring: validated parameters (MODEL.md §1, §5, §6), the laws of
+//! wall contact and bit–rock interaction, and the
 //! section constants derived from them. All values are SI.
 
 mod basis;
 pub mod bit;
+pub mod law;
 pub mod parameters;
 mod params;
 mod section;
+pub mod wall;
 
 pub use basis::{BasisSpec, FamilySize};
 pub use bit::{BitLoad, BitRock, BitRockLaw};
+pub use law::{Chosen, Law, LawEntry};
 pub use parameters::{Enters, ParameterKey, ParameterSpec};
-pub use params::{
-    API_GRADES, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start, WallContact,
-};
+pub use params::{API_GRADES, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start};
 pub use section::{Section, cowper_shear_factor};
+pub use wall::{NormalForce, WallContact, WallContactLaw};

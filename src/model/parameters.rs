@@ -3,8 +3,8 @@
 //! and checks them through this table, the Monte Carlo runner applies sampled values through it,
 //! and the reduced-model cache asks it whether a sample needs its own modes.
 //!
-//! The bit–rock law's parameters come from the law itself ([`super::bit`]); [`ParameterKey`]
-//! resolves a key against both.
+//! The parameters of the wall contact law and of the bit–rock law come from the laws themselves
+//! ([`super::wall`], [`super::bit`]); [`ParameterKey`] resolves a key against all three.
 
 use super::Drillstring;
 use crate::units::{Dimension, Range};
@@ -37,13 +37,14 @@ impl ParameterSpec {
 /// Which operators of the discretised model a parameter enters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Enters {
-    /// The linear operators K, M, C: a changed value needs its own modes.
+    /// The linear operators K, M, C or the gravity load: a changed value needs its own reduced
+    /// model.
     LinearOperators,
     /// Only the nonlinear forces (bit, wall contact, borehole gap): the modes are shared.
     NonlinearForces,
 }
 
-/// A parameter of the string (not of its bit law).
+/// A parameter of the string (not of its wall or bit law).
 pub struct StringParameter {
     pub spec: ParameterSpec,
     pub enters: Enters,
@@ -92,43 +93,7 @@ use Dimension as D;
 use Enters::{LinearOperators as Linear, NonlinearForces as Nonlinear};
 
 /// The string's parameters a study may declare uncertain.
-pub static STRING_PARAMETERS: [StringParameter; 9] = [
-    row(
-        "model.wall.stiffness",
-        D::Stiffness,
-        Range::closed(0.0, 1e14, "contact stiffness of rock"),
-        1e10,
-        Nonlinear,
-        |s| &mut s.wall.stiffness,
-        "linear contact stiffness k_FS1 of the borehole wall",
-    ),
-    row(
-        "model.wall.cubic_stiffness",
-        D::CubicStiffness,
-        Range::closed(0.0, 1e22, "cubic contact stiffness"),
-        1e16,
-        Nonlinear,
-        |s| &mut s.wall.cubic_stiffness,
-        "cubic contact stiffness k_FS2 of the borehole wall",
-    ),
-    row(
-        "model.wall.damping",
-        D::Dimensionless,
-        Range::closed(0.0, 1e15, "Hunt-Crossley damping c_FS"),
-        1e8,
-        Nonlinear,
-        |s| &mut s.wall.damping,
-        "Hunt-Crossley contact damping c_FS, N·s/m⁴",
-    ),
-    row(
-        "model.wall.friction",
-        D::Dimensionless,
-        Range::closed(0.0, 2.0, "a Coulomb friction coefficient"),
-        0.25,
-        Nonlinear,
-        |s| &mut s.wall.friction,
-        "Coulomb friction coefficient μ_FS of the wall",
-    ),
+pub static STRING_PARAMETERS: [StringParameter; 6] = [
     row(
         "model.pipe.damping",
         D::Rate,
@@ -165,6 +130,15 @@ pub static STRING_PARAMETERS: [StringParameter; 9] = [
         |s| &mut s.fluid_density,
         "drilling-fluid density ρ_f (added lateral mass)",
     ),
+    row(
+        "model.fluid.annulus_density",
+        D::Density,
+        Range::closed(0.0, 3e3, "from none (0) to the heaviest muds"),
+        1200.0,
+        Linear,
+        |s| &mut s.annulus_density,
+        "density ρ_a of the fluid in the annulus (buoyancy: gravity load)",
+    ),
     StringParameter {
         above: Some((|s| s.pipe.outer_radius, "the pipe's outer radius")),
         ..row(
@@ -180,7 +154,7 @@ pub static STRING_PARAMETERS: [StringParameter; 9] = [
 ];
 
 /// A model parameter a study can vary: a row of [`STRING_PARAMETERS`] or a parameter of the
-/// string's bit–rock law.
+/// string's wall contact law or bit–rock law.
 #[derive(Debug, Clone, Copy)]
 pub struct ParameterKey {
     spec: &'static ParameterSpec,
@@ -190,6 +164,7 @@ pub struct ParameterKey {
 #[derive(Debug, Clone, Copy)]
 enum Target {
     String(&'static StringParameter),
+    Wall(usize),
     Bit(usize),
 }
 
@@ -202,7 +177,7 @@ impl PartialEq for ParameterKey {
 impl Eq for ParameterKey {}
 
 impl ParameterKey {
-    /// The parameter called `key` in a string with this bit law, if it can be varied.
+    /// The parameter called `key` in a string with these laws, if it can be varied.
     pub fn resolve(key: &str, string: &Drillstring) -> Option<Self> {
         if let Some(row) = STRING_PARAMETERS.iter().find(|r| r.spec.key == key) {
             return Some(ParameterKey {
@@ -210,19 +185,27 @@ impl ParameterKey {
                 target: Target::String(row),
             });
         }
-        let law = string.bit.law();
-        let index = law.parameters().iter().position(|p| p.key == key)?;
-        Some(ParameterKey {
-            spec: &law.parameters()[index],
-            target: Target::Bit(index),
-        })
+        let in_law = |specs: &'static [ParameterSpec], target: fn(usize) -> Target| {
+            let index = specs.iter().position(|p| p.key == key)?;
+            Some(ParameterKey {
+                spec: &specs[index],
+                target: target(index),
+            })
+        };
+        in_law(string.wall.law().parameters(), Target::Wall)
+            .or_else(|| in_law(string.bit.law().parameters(), Target::Bit))
     }
 
-    /// Every key that can be varied in this string.
+    /// Every key that can be varied in this string: the string's own, its wall law's, its bit
+    /// law's.
     pub fn available(string: &Drillstring) -> Vec<&'static str> {
         let fixed = STRING_PARAMETERS.iter().map(|r| r.spec.key);
+        let laws = [
+            string.wall.law().parameters(),
+            string.bit.law().parameters(),
+        ];
         fixed
-            .chain(string.bit.law().parameters().iter().map(|p| p.key))
+            .chain(laws.into_iter().flatten().map(|p| p.key))
             .collect()
     }
 
@@ -236,11 +219,11 @@ impl ParameterKey {
         self.spec
     }
 
-    /// Which operators the parameter enters (bit-law parameters act in the forces only).
+    /// Which operators the parameter enters (the laws' parameters act in the forces only).
     pub fn enters(&self) -> Enters {
         match self.target {
             Target::String(row) => row.enters,
-            Target::Bit(_) => Enters::NonlinearForces,
+            Target::Wall(_) | Target::Bit(_) => Enters::NonlinearForces,
         }
     }
 
@@ -248,6 +231,7 @@ impl ParameterKey {
     pub fn apply(&self, string: &mut Drillstring, value: f64) {
         match self.target {
             Target::String(row) => *(row.field)(string) = value,
+            Target::Wall(index) => string.wall.set(index, value),
             Target::Bit(index) => string.bit.set(index, value),
         }
     }
@@ -303,12 +287,15 @@ mod tests {
             let mut back = t.clone();
             let original = match k.target {
                 Target::String(row) => *(row.field)(&mut s.clone()),
+                Target::Wall(i) => s.wall.law().value(i),
                 Target::Bit(i) => s.bit.law().value(i),
             };
             k.apply(&mut back, original);
             assert_eq!(back, s, "{key}");
         }
         assert!(ParameterKey::resolve("model.bit.limit_force", &s).is_some());
+        assert!(ParameterKey::resolve("model.wall.cubic_stiffness", &s).is_some());
+        assert!(ParameterKey::resolve("model.wall.restitution", &s).is_none());
         assert!(ParameterKey::resolve("model.bit.radius", &s).is_none());
         assert!(ParameterKey::resolve("model.length", &s).is_none());
     }
@@ -318,8 +305,13 @@ mod tests {
         let s = seed();
         let k = |key| ParameterKey::resolve(key, &s).unwrap();
         assert_eq!(k("model.pipe.density").enters(), Enters::LinearOperators);
+        assert_eq!(
+            k("model.fluid.annulus_density").enters(),
+            Enters::LinearOperators
+        );
         assert_eq!(k("model.bit.rate").enters(), Enters::NonlinearForces);
         assert_eq!(k("model.borehole.radius").enters(), Enters::NonlinearForces);
+        assert_eq!(k("model.wall.stiffness").enters(), Enters::NonlinearForces);
         let r = k("model.borehole.radius");
         assert!(r.admissible(&s, s.pipe.outer_radius).is_err());
         assert!(r.admissible(&s, s.pipe.outer_radius * 1.1).is_ok());

@@ -31,36 +31,29 @@ pub const API_GRADES: [(&str, f64); 4] = [
     ("S-135", 135.0 * 6.894_757_293_168e6),
 ];
 
-/// Wall contact and friction at every node (MODEL.md §5, Eqs. (2), (3)).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct WallContact {
-    /// Linear contact stiffness k_FS1, N/m.
-    pub stiffness: f64,
-    /// Cubic contact stiffness k_FS2, N/m³.
-    pub cubic_stiffness: f64,
-    /// Hunt–Crossley damping c_FS, N·s/m⁴ (the force is c_FS |δ|³ δ̇).
-    pub damping: f64,
-    /// Coulomb friction coefficient μ_FS, dimensionless.
-    pub friction: f64,
-    /// Angular velocity ε of the smooth sign, sgn(ω) ≈ tanh(ω/ε), rad/s.
-    pub sign_smoothing: f64,
-}
-
 /// The drillstring, borehole and environment.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Drillstring {
     /// Length L from the top drive (x = 0) to the bit (x = L), m.
     pub length: f64,
     pub pipe: Pipe,
-    /// Drilling fluid density ρ_f, kg/m³ (adds lateral mass ρ_f A_f only).
+    /// Density ρ_f of the drilling fluid inside the pipe, kg/m³: it adds lateral mass ρ_f A_f and
+    /// its weight ρ_f A_f g to the string (MODEL.md §3).
     pub fluid_density: f64,
+    /// Density ρ_a of the fluid in the annulus, outside the pipe, kg/m³; 0 (the default, the
+    /// seed paper's model) for none. It buoys the string: the gravity load becomes the buoyed
+    /// weight (ρA + ρ_f A_f − ρ_a π R_ext²) g, see [`super::Section::weight_mass`]. Left out of
+    /// the canonical form (cache keys) when 0, so a problem without it keeps its key.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub annulus_density: f64,
     /// Borehole radius R_bh, m.
     pub borehole_radius: f64,
     /// Mass-proportional damping c, 1/s (C = c · M_pipe).
     pub damping: f64,
     /// Gravitational acceleration g, m/s², acting along −z.
     pub gravity: f64,
-    pub wall: WallContact,
+    /// The wall contact law and its parameters (MODEL.md §5).
+    pub wall: super::WallContact,
     /// The bit–rock interaction law and its parameters (MODEL.md §6).
     pub bit: super::BitRock,
     /// Polar moment of inertia of the bit (and of whatever turns with it below the last node),
@@ -73,6 +66,7 @@ pub struct Drillstring {
     pub bit_inertia: f64,
 }
 
+/// Whether a value is 0 (`serde(skip_serializing_if)`).
 fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }

@@ -38,6 +38,9 @@ pub struct Section {
     pub pipe_mass: f64,
     /// Fluid lateral mass per length ρ_f A_f, kg/m.
     pub fluid_mass: f64,
+    /// Mass per length of the annulus fluid the pipe displaces, ρ_a π R_ext², kg/m (0 without
+    /// annulus fluid).
+    pub displaced_mass: f64,
     /// Rotatory inertia per length about a diameter ρI, kg·m.
     pub rotary_inertia: f64,
     /// Polar inertia per length ρJ = 2ρI, kg·m.
@@ -66,6 +69,7 @@ impl Section {
             torsional_rigidity: p.torsion_factor * shear_modulus * polar_moment,
             pipe_mass: p.density * area,
             fluid_mass: string.fluid_density * fluid_area,
+            displaced_mass: string.annulus_density * PI * ro * ro,
             rotary_inertia: p.density * second_moment,
             polar_inertia: p.density * polar_moment,
         }
@@ -74,6 +78,23 @@ impl Section {
     /// Lateral mass per length ρA + ρ_f A_f, kg/m.
     pub fn lateral_mass(&self) -> f64 {
         self.pipe_mass + self.fluid_mass
+    }
+
+    /// The mass per length whose weight loads the string, kg/m: the buoyed weight over g,
+    ///
+    ///   w/g = ρA + ρ_f A_f − ρ_a π R_ext²,
+    ///
+    /// the pipe and the fluid inside it (as the paper's Eq. (15) has them) less the annulus
+    /// fluid the pipe displaces (Archimedes on the outer volume; the buoyed weight per length of
+    /// Mitchell & Miska, *Fundamentals of Drilling Engineering*, SPE Textbook Series 12, 2011,
+    /// and of Aadnøy, *Mechanics of Drilling*, 2006: w_b = w_s + ρ_i A_i g − ρ_o A_o g). With
+    /// ρ_a = ρ_f it is the steel's weight times the buoyancy factor 1 − ρ_f/ρ. The hydrostatic
+    /// pressure itself is not modelled: in a horizontal hole it is uniform along the string, and
+    /// the lateral load it leaves is this one when the axial force is read as Lubinski's
+    /// effective force, which is what the model's axial force is. The annulus fluid adds no
+    /// lateral (added) mass here. Equal to [`Self::lateral_mass`] to the last bit without it.
+    pub fn weight_mass(&self) -> f64 {
+        self.lateral_mass() - self.displaced_mass
     }
 }
 

@@ -14,7 +14,7 @@ const fn open(lo: f64, hi: f64, why: &'static str) -> Range {
 
 /// The admissible range of a problem-file key, if it has one: the model's parameter table
 /// ([`crate::model::parameters`]) for the parameters a study may vary, else the table below. The
-/// bit–rock law's parameters are checked against the law's own table.
+/// parameters of the wall contact and bit–rock laws are checked against the law's own table.
 pub fn range_of(key: &str) -> Option<Range> {
     use crate::model::parameters::STRING_PARAMETERS;
     if let Some(row) = STRING_PARAMETERS.iter().find(|r| r.spec.key == key) {
@@ -31,7 +31,6 @@ pub fn range_of(key: &str) -> Option<Range> {
             1e3,
             "at most 1000 kg·m² (a 12¼ in bit is about 1 kg·m², a whole BHA tens to hundreds)",
         ),
-        "model.wall.sign_smoothing" => open(0.0, 10.0, "small against the rotation speed"),
         "operating_point.omega" => closed(
             crate::units::from_rpm(1.0),
             crate::units::from_rpm(1000.0),
@@ -58,9 +57,6 @@ mod tests {
             ("model.length", 35.0),
             ("model.pipe.density", 7900.0),
             ("model.pipe.youngs_modulus", 203e9),
-            ("model.wall.stiffness", 1e10),
-            ("model.wall.cubic_stiffness", 1e16),
-            ("model.wall.friction", 1e-5),
             ("operating_point.omega", 2.0 * std::f64::consts::PI),
             ("operating_point.v0", 1.0 / 720.0),
             ("simulation.duration", 90.0),
@@ -72,7 +68,6 @@ mod tests {
             assert!(!r.contains(f64::INFINITY) && !r.contains(f64::NAN));
         }
         assert!(!range_of("model.length").unwrap().contains(0.0));
-        assert!(range_of("model.wall.friction").unwrap().contains(0.0));
         // Off-bottom rotation (issue 13 item 13); a negative feed is refused.
         assert!(range_of("operating_point.v0").unwrap().contains(0.0));
         assert!(!range_of("operating_point.v0").unwrap().contains(-1e-9));

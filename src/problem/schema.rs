@@ -67,8 +67,8 @@ pub struct ModelSection {
     pub pipe: PipeSection,
     pub fluid: FluidSection,
     pub borehole: BoreholeSection,
-    pub wall: WallSection,
-    pub bit: BitSection,
+    pub wall: LawSection,
+    pub bit: LawSection,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -89,7 +89,10 @@ pub struct PipeSection {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FluidSection {
+    /// The drilling fluid inside the pipe.
     pub density: RawQuantity,
+    /// The fluid in the annulus, outside the pipe (buoyancy); none when omitted.
+    pub annulus_density: Option<RawQuantity>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -98,24 +101,13 @@ pub struct BoreholeSection {
     pub radius: RawQuantity,
 }
 
+/// A table that names a law and gives its parameters (`[model.wall]`, `[model.bit]`), checked
+/// against the law's own table ([`crate::model::wall::WALL_LAWS`], [`crate::model::bit::BIT_LAWS`])
+/// in validation, so unknown keys are still refused.
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct WallSection {
-    pub stiffness: RawQuantity,
-    pub cubic_stiffness: RawQuantity,
-    pub damping: RawQuantity,
-    pub friction: RawQuantity,
-    pub sign_smoothing: Option<RawQuantity>,
-}
-
-/// `[model.bit]`: the bit–rock law by name and its parameters, checked against the law's own
-/// table ([`crate::model::bit::BIT_LAWS`]) in validation, so unknown keys are still refused.
-#[derive(Debug, Clone, Deserialize)]
-pub struct BitSection {
-    /// The law's name; the seed paper's `"exponential"` when omitted.
+pub struct LawSection {
+    /// The law's name; the registry's first (the seed paper's law) when omitted.
     pub law: Option<String>,
-    /// Polar moment of inertia of the bit, lumped at the bit node (not a parameter of the law).
-    pub inertia: Option<RawQuantity>,
     /// Every other key of the table: the law's parameters by name.
     #[serde(flatten)]
     pub parameters: std::collections::BTreeMap<String, RawQuantity>,

@@ -3,18 +3,18 @@
 use super::error::KeyError;
 use super::schema::*;
 use super::{Dimension, Problem, ProblemError};
-use crate::model::bit::{BIT_LAWS, bit_law};
+use crate::model::bit::BIT_LAWS;
+use crate::model::law::{Chosen, Law, LawEntry, find};
+use crate::model::wall::WALL_LAWS;
 use crate::model::{
-    BasisSpec, BitRock, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec, Pipe,
-    Simulation, Start, WallContact, cowper_shear_factor,
+    BasisSpec, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec, Pipe, Simulation,
+    Start, cowper_shear_factor,
 };
 use crate::units::show;
 use serde::Deserialize;
 use std::cell::RefCell;
 use std::path::Path;
 
-/// Default smoothing of the friction sign, rad/s: small against any drilling speed (≥ 10 rpm ≈ 1 rad/s).
-pub const DEFAULT_SIGN_SMOOTHING: f64 = 1e-3;
 /// Standard gravity, m/s², used when the file omits `model.gravity`.
 pub const STANDARD_GRAVITY: f64 = 9.81;
 
@@ -375,6 +375,10 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     };
     let pipe = pipe(c, &m.pipe)?;
     let fluid_density = c.non_negative("model.fluid.density", &m.fluid.density, Density)?;
+    let annulus_density = match &m.fluid.annulus_density {
+        Some(raw) => c.non_negative("model.fluid.annulus_density", raw, Density)?,
+        None => 0.0,
+    };
     let borehole_radius = c.positive("model.borehole.radius", &m.borehole.radius, Length)?;
     c.check(
         "model.borehole.radius",
@@ -387,23 +391,12 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         Length,
     )?;
     let damping = c.non_negative("model.pipe.damping", &m.pipe.damping, Rate)?;
-    let w = &m.wall;
-    let wall = WallContact {
-        stiffness: c.non_negative("model.wall.stiffness", &w.stiffness, Stiffness)?,
-        cubic_stiffness: c.non_negative(
-            "model.wall.cubic_stiffness",
-            &w.cubic_stiffness,
-            CubicStiffness,
-        )?,
-        damping: c.non_negative("model.wall.damping", &w.damping, Dimensionless)?,
-        friction: c.non_negative("model.wall.friction", &w.friction, Dimensionless)?,
-        sign_smoothing: match &w.sign_smoothing {
-            Some(e) => c.positive("model.wall.sign_smoothing", e, AngularVelocity)?,
-            None => DEFAULT_SIGN_SMOOTHING,
-        },
-    };
-    let bit = bit_rock(c, &m.bit)?;
-    let bit_inertia = match &m.bit.inertia {
+    let wall = chosen_law(c, "model.wall", &m.wall, WALL_LAWS)?;
+    // `inertia` belongs to the bit, not to its law: taken out before the law's table is checked.
+    let mut bit_section = m.bit.clone();
+    let inertia = bit_section.parameters.remove("inertia");
+    let bit = chosen_law(c, "model.bit", &bit_section, BIT_LAWS)?;
+    let bit_inertia = match &inertia {
         Some(j) => c.non_negative("model.bit.inertia", j, MomentOfInertia)?,
         None => 0.0,
     };
@@ -412,6 +405,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         length,
         pipe,
         fluid_density,
+        annulus_density,
         borehole_radius,
         damping,
         gravity,
@@ -420,43 +414,52 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     })
 }
 
-/// `[model.bit]`: the law named by `law` (the registry's first when omitted), every parameter of
-/// its table read and checked against its range, unknown keys refused.
-fn bit_rock(c: &Checker, b: &BitSection) -> Result<BitRock, ProblemError> {
-    let entry = match &b.law {
-        None => &BIT_LAWS[0],
-        Some(name) => bit_law(name).ok_or_else(|| {
-            let names: Vec<String> = BIT_LAWS.iter().map(|e| format!("{:?}", e.name)).collect();
+/// A law table (`[model.wall]`, `[model.bit]`, named `table`): the law of `registry` named by
+/// `law` (the registry's first when omitted), every parameter of its table read and checked
+/// against its range. Unknown keys and missing required parameters are recorded, each with the
+/// law's parameters named, and the rest is still checked; an unknown law ends the table.
+fn chosen_law<L: ?Sized + Law>(
+    c: &Checker,
+    table: &str,
+    section: &LawSection,
+    registry: &'static [LawEntry<L>],
+) -> Result<Chosen<L>, ProblemError> {
+    let entry = match &section.law {
+        None => &registry[0],
+        Some(name) => find(registry, name).ok_or_else(|| {
+            let names: Vec<String> = registry.iter().map(|e| format!("{:?}", e.name)).collect();
             c.fail(
-                "model.bit.law",
+                &format!("{table}.law"),
                 format!("must be one of {}, got {name:?}", names.join(", ")),
             )
         })?,
     };
     let names: Vec<&str> = entry.parameters.iter().map(|p| p.name()).collect();
-    if let Some(unknown) = b.parameters.keys().find(|k| !names.contains(&k.as_str())) {
-        return Err(c.fail(
-            &format!("model.bit.{unknown}"),
-            format!(
-                "is not a parameter of law = {:?}; its parameters are {}",
-                entry.name,
-                names.join(", ")
-            ),
-        ));
+    for unknown in section.parameters.keys() {
+        if !names.contains(&unknown.as_str()) {
+            c.record(
+                &format!("{table}.{unknown}"),
+                format!(
+                    "unknown field: not a parameter of law = {:?}; its parameters are {}",
+                    entry.name,
+                    names.join(", ")
+                ),
+            );
+        }
     }
     let values = entry
         .parameters
         .iter()
-        .map(|p| match (b.parameters.get(p.name()), p.default) {
+        .map(|p| match (section.parameters.get(p.name()), p.default) {
             (Some(raw), _) => c.spec_value(p, raw),
             (None, Some(default)) => Ok(default),
-            (None, None) => Err(c.fail(
+            (None, None) => Ok(c.record(
                 p.key,
                 format!("is required by law = {:?} ({})", entry.name, p.doc),
             )),
         })
         .collect::<Result<Vec<f64>, _>>()?;
-    Ok(BitRock::from_entry(entry, &values))
+    Ok(Chosen::from_entry(entry, &values))
 }
 
 fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {

@@ -1,13 +1,109 @@
 //! What the axes of every plot share: a long curve reduced to its extremes per time bucket
 //! ([`decimate_min_max`]), the range of an axis padded around its data ([`axis_range`]), and
-//! tick labels with just the digits their step needs ([`tick_label`]), the font and the legend box
-//! ([`draw_legend`]).
+//! tick labels with just the digits their step needs ([`tick_label`]), the font, the titled
+//! figure ([`titled_figure`]), the Cartesian chart with its frame, labelled axes and grid
+//! ([`xy_chart`]), a dashed level line across it
+//! ([`draw_level`]) and the legend box ([`draw_legend`]).
 
+use plotters::chart::SeriesAnno;
 use plotters::coord::CoordTranslate;
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 /// The font of every plot.
 pub(super) const FONT: &str = "sans-serif";
+
+/// A Cartesian chart of the SVG plots, in plot units on both axes.
+pub(super) type XyChart<'a, 'b> =
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// What drawing on an SVG area may fail with.
+pub(super) type SvgError = DrawingAreaErrorKind<std::io::Error>;
+
+/// The whole of `root` filled white with `title` across its top (26 px); returns the area below
+/// the title, where the figure goes.
+pub(super) fn titled_figure<'b>(
+    root: &DrawingArea<SVGBackend<'b>, Shift>,
+    title: &str,
+) -> Result<DrawingArea<SVGBackend<'b>, Shift>, SvgError> {
+    root.fill(&WHITE)?;
+    root.titled(title, (FONT, 26))
+}
+
+/// How a kind of chart is laid out: the right margin and the width of the y tick labels (px), and
+/// the grid as the opacities of its light and bold lines (`None`: no grid).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Layout {
+    pub margin_right: u32,
+    pub y_label_area: u32,
+    pub grid: Option<(f64, f64)>,
+}
+
+/// Time histories: wide y tick labels, a faint grid.
+pub(super) const TIME_LAYOUT: Layout = Layout {
+    margin_right: 25,
+    y_label_area: 85,
+    grid: Some((0.05, 0.15)),
+};
+
+/// One axis of an [`xy_chart`]: its description (with unit) and its range.
+pub(super) type Axis<'a> = (&'a str, (f64, f64));
+
+/// A chart on `area` over `x` × `y`, laid out as `layout`, with the optional `caption` (text,
+/// font size) above it, the frame, both axes described and ticked by [`tick_label`], and the
+/// grid; ready for its series.
+pub(super) fn xy_chart<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    caption: Option<(&str, u32)>,
+    (x_desc, (x_lo, x_hi)): Axis<'_>,
+    (y_desc, (y_lo, y_hi)): Axis<'_>,
+    layout: Layout,
+) -> Result<XyChart<'a, 'b>, SvgError> {
+    let mut builder = ChartBuilder::on(area);
+    if let Some((text, size)) = caption {
+        builder.caption(text, (FONT, size));
+    }
+    let mut chart = builder
+        .margin(10)
+        .margin_right(layout.margin_right)
+        .x_label_area_size(50)
+        .y_label_area_size(layout.y_label_area)
+        .build_cartesian_2d(x_lo..x_hi, y_lo..y_hi)?;
+    let x_fmt = |v: &f64| tick_label(*v, x_lo, x_hi);
+    let y_fmt = |v: &f64| tick_label(*v, y_lo, y_hi);
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .label_style((FONT, 15))
+        .axis_desc_style((FONT, 17));
+    match layout.grid {
+        Some((light, bold)) => mesh
+            .light_line_style(BLACK.mix(light))
+            .bold_line_style(BLACK.mix(bold)),
+        None => mesh.disable_mesh(),
+    };
+    mesh.draw()?;
+    Ok(chart)
+}
+
+/// A dashed horizontal line at `value` across `x` (dashes of 10 px, gaps of 6 px), in `style`:
+/// an imposed or limiting value. Label its annotation to give it a legend entry.
+pub(super) fn draw_level<'c, 'a: 'c, 'b: 'c>(
+    chart: &'c mut XyChart<'a, 'b>,
+    (x_lo, x_hi): (f64, f64),
+    value: f64,
+    style: ShapeStyle,
+) -> Result<&'c mut SeriesAnno<'a, SVGBackend<'b>>, SvgError> {
+    chart.draw_series(DashedLineSeries::new(
+        [(x_lo, value), (x_hi, value)],
+        10,
+        6,
+        style,
+    ))
+}
 
 /// The legend of every plot: a translucent white box with a grey border at `position`.
 pub(super) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(

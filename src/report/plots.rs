@@ -26,7 +26,10 @@ use crate::model::OperatingPoint;
 use crate::sim::TimeSeries;
 
 use super::atomic::write_atomic;
-use super::axes::{FONT, PLOT_BUCKETS, axis_range, decimate_min_max, draw_legend, tick_label};
+use super::axes::{
+    PLOT_BUCKETS, TIME_LAYOUT, axis_range, decimate_min_max, draw_legend, draw_level,
+    titled_figure, xy_chart,
+};
 use super::units::{M_PER_H_PER_M_PER_S, REV_PER_RAD, RPM_PER_RAD_S, operating_point_text, short};
 
 /// Image width, px.
@@ -99,32 +102,7 @@ pub fn plot_bit_axial(
     op: &OperatingPoint,
     path: &Path,
 ) -> Result<(), PlotError> {
-    let v0 = op.v0 * M_PER_H_PER_M_PER_S;
-    let v0_label = format!("V0 = {} m/h (imposed at the top)", short(v0));
-    plot_panels(
-        path,
-        &format!(
-            "Drill-bit axial displacement and velocity, {}",
-            operating_point_text(op)
-        ),
-        &series.t,
-        &[
-            Panel {
-                caption: "Bit displacement u(L)",
-                y_label: "u(L) [m]",
-                y: &series.bit_displacement,
-                scale: 1.0,
-                reference: None,
-            },
-            Panel {
-                caption: "Bit velocity u\u{307}(L)",
-                y_label: "u\u{307}(L) [m/h]",
-                y: &series.bit_velocity,
-                scale: M_PER_H_PER_M_PER_S,
-                reference: Some((v0, v0_label.as_str())),
-            },
-        ],
-    )
+    plot_bit_figure(&BIT_AXIAL, series, op, path)
 }
 
 /// Bit rotation θx(L) \[rev\] and angular velocity θ̇x(L) \[rpm\] against t \[s\] (paper
@@ -134,30 +112,80 @@ pub fn plot_bit_rotation(
     op: &OperatingPoint,
     path: &Path,
 ) -> Result<(), PlotError> {
-    let omega = op.omega * RPM_PER_RAD_S;
-    let omega_label = format!("\u{3a9} = {} rpm (imposed at the top)", short(omega));
+    plot_bit_figure(&BIT_ROTATION, series, op, path)
+}
+
+/// A panel of a bit figure: caption, y label with unit, the channel, the factor from SI to the
+/// unit of the label.
+type Channel = (&'static str, &'static str, fn(&TimeSeries) -> &[f64], f64);
+
+/// One of the paper's bit figures (Figs. 3, 4): a coordinate of the bit above, its rate below
+/// with the rate imposed at the top as the reference line.
+struct BitFigure {
+    title: &'static str,
+    coordinate: Channel,
+    rate: Channel,
+    /// The imposed rate: its symbol, its value (SI) at an operating point, the rate's plot unit.
+    imposed: (&'static str, fn(&OperatingPoint) -> f64, &'static str),
+}
+
+const BIT_AXIAL: BitFigure = BitFigure {
+    title: "Drill-bit axial displacement and velocity",
+    coordinate: (
+        "Bit displacement u(L)",
+        "u(L) [m]",
+        |s| &s.bit_displacement,
+        1.0,
+    ),
+    rate: (
+        "Bit velocity u\u{307}(L)",
+        "u\u{307}(L) [m/h]",
+        |s| &s.bit_velocity,
+        M_PER_H_PER_M_PER_S,
+    ),
+    imposed: ("V0", |op| op.v0, "m/h"),
+};
+
+const BIT_ROTATION: BitFigure = BitFigure {
+    title: "Drill-bit rotation and angular velocity",
+    coordinate: (
+        "Bit rotation \u{3b8}x(L)",
+        "\u{3b8}x(L) [rev]",
+        |s| &s.bit_rotation,
+        REV_PER_RAD,
+    ),
+    rate: (
+        "Bit angular velocity \u{3b8}\u{307}x(L)",
+        "\u{3b8}\u{307}x(L) [rpm]",
+        |s| &s.bit_angular_velocity,
+        RPM_PER_RAD_S,
+    ),
+    imposed: ("\u{3a9}", |op| op.omega, "rpm"),
+};
+
+fn plot_bit_figure(
+    figure: &BitFigure,
+    series: &TimeSeries,
+    op: &OperatingPoint,
+    path: &Path,
+) -> Result<(), PlotError> {
+    let (symbol, imposed, unit) = figure.imposed;
+    let value = imposed(op) * figure.rate.3;
+    let label = format!("{symbol} = {} {unit} (imposed at the top)", short(value));
+    let panel = |(caption, y_label, y, scale): Channel, reference| Panel {
+        caption,
+        y_label,
+        y: y(series),
+        scale,
+        reference,
+    };
     plot_panels(
         path,
-        &format!(
-            "Drill-bit rotation and angular velocity, {}",
-            operating_point_text(op)
-        ),
+        &format!("{}, {}", figure.title, operating_point_text(op)),
         &series.t,
         &[
-            Panel {
-                caption: "Bit rotation \u{3b8}x(L)",
-                y_label: "\u{3b8}x(L) [rev]",
-                y: &series.bit_rotation,
-                scale: REV_PER_RAD,
-                reference: None,
-            },
-            Panel {
-                caption: "Bit angular velocity \u{3b8}\u{307}x(L)",
-                y_label: "\u{3b8}\u{307}x(L) [rpm]",
-                y: &series.bit_angular_velocity,
-                scale: RPM_PER_RAD_S,
-                reference: Some((omega, omega_label.as_str())),
-            },
+            panel(figure.coordinate, None),
+            panel(figure.rate, Some((value, label.as_str()))),
         ],
     )
 }
@@ -249,8 +277,7 @@ fn draw_figure(
     t: &[f64],
     panels: &[Panel<'_>],
 ) -> DrawResult {
-    root.fill(&WHITE)?;
-    let body = root.titled(title, (FONT, 26))?;
+    let body = titled_figure(root, title)?;
     if panels.is_empty() {
         return Ok(());
     }
@@ -274,37 +301,18 @@ fn draw_panel(
         Y_PAD,
     );
 
-    let mut chart = ChartBuilder::on(area)
-        .caption(panel.caption, (FONT, 20))
-        .margin(10)
-        .margin_right(25)
-        .x_label_area_size(50)
-        .y_label_area_size(85)
-        .build_cartesian_2d(t_lo..t_hi, y_lo..y_hi)?;
-    let x_fmt = |v: &f64| tick_label(*v, t_lo, t_hi);
-    let y_fmt = |v: &f64| tick_label(*v, y_lo, y_hi);
-    chart
-        .configure_mesh()
-        .x_desc("t [s]")
-        .y_desc(panel.y_label)
-        .x_label_formatter(&x_fmt)
-        .y_label_formatter(&y_fmt)
-        .label_style((FONT, 15))
-        .axis_desc_style((FONT, 17))
-        .light_line_style(BLACK.mix(0.05))
-        .bold_line_style(BLACK.mix(0.15))
-        .draw()?;
+    let mut chart = xy_chart(
+        area,
+        Some((panel.caption, 20)),
+        ("t [s]", (t_lo, t_hi)),
+        (panel.y_label, (y_lo, y_hi)),
+        TIME_LAYOUT,
+    )?;
     chart.draw_series(LineSeries::new(points, BLUE.stroke_width(1)))?;
 
     if let Some((value, label)) = reference {
         let style = RED.stroke_width(2);
-        chart
-            .draw_series(DashedLineSeries::new(
-                [(t_lo, value), (t_hi, value)],
-                10,
-                6,
-                style,
-            ))?
+        draw_level(&mut chart, (t_lo, t_hi), value, style)?
             .label(label)
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], style));
         draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;

@@ -12,31 +12,36 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// What every report records of its problem besides name and path: the file's text and a
-/// stable hash of it (FNV-1a, 64 bits, hex), so that a result says exactly what produced it.
+/// The head of every report: the problem's name, the path it was read from, the file's text and
+/// a stable hash of it (FNV-1a, 64 bits, hex), and drillopt's version, so that a result says
+/// exactly what produced it.
 #[derive(Debug, Clone, Serialize)]
 pub struct ProblemRecord<'a> {
+    pub problem: &'a str,
+    pub problem_file: String,
     pub problem_hash: String,
     pub problem_toml: &'a str,
+    pub version: &'static str,
 }
 
 impl<'a> ProblemRecord<'a> {
-    pub fn of(problem: &'a Problem) -> Self {
+    /// The record of `problem`, read from `file`.
+    pub fn of(problem: &'a Problem, file: &Path) -> Self {
         ProblemRecord {
+            problem: &problem.name,
+            problem_file: file.display().to_string(),
             problem_hash: format!("{:016x}", crate::hash::stable_hash(problem.text.as_bytes())),
             problem_toml: &problem.text,
+            version: crate::VERSION,
         }
     }
 }
 
-/// The head of every study report: problem, file, record, version, seed and samples.
+/// The head of every study report: the problem's record, the seed and the samples.
 #[derive(Debug, Clone, Serialize)]
 pub struct StudyHeader<'a> {
-    pub problem: &'a str,
-    pub problem_file: String,
     #[serde(flatten)]
     pub record: ProblemRecord<'a>,
-    pub version: &'static str,
     pub seed: u64,
     pub samples: usize,
 }
@@ -44,10 +49,7 @@ pub struct StudyHeader<'a> {
 impl<'a> StudyHeader<'a> {
     pub fn of(problem: &'a Problem, file: &Path) -> Self {
         StudyHeader {
-            problem: &problem.name,
-            problem_file: file.display().to_string(),
-            record: ProblemRecord::of(problem),
-            version: crate::VERSION,
+            record: ProblemRecord::of(problem, file),
             seed: problem.study.seed,
             samples: problem.study.samples,
         }

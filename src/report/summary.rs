@@ -20,11 +20,9 @@ pub enum RunStatus {
 /// `summary.json` of `drillopt simulate`.
 #[derive(Debug, Clone, Serialize)]
 pub struct SummaryJson<'a> {
-    pub problem: &'a str,
-    pub problem_file: String,
+    /// Problem name, file, text, hash and drillopt's version.
     #[serde(flatten)]
     pub record: ProblemRecord<'a>,
-    pub version: &'a str,
     pub operating_point: super::PointJson,
     pub duration_s: f64,
     /// Start of the analysis window (the problem's settling time, at most half the run), s.

@@ -1,10 +1,13 @@
-//! Wall contact and friction at a node (MODEL.md §5, Eqs. (2), (3), (13)).
+//! Wall contact and friction at a node (MODEL.md §5, Eqs. (2), (3), (13)): the geometry, the
+//! same for every wall law.
 //!
-//! With r = √(v² + w²) and indentation δ = r − gap, for δ > 0 the wall pushes the node back:
-//! F_FS = −k₁δ − k₂δ³ − c_FS|δ|³δ̇, clamped to F_FS ≤ 0 (the wall never pulls), applied along
-//! (v, w)/r; friction torque T_FS = −μ_FS |F_FS| R_bh tanh(θ̇x/ε) always opposes the spin.
+//! With r = √(v² + w²), outward normal n = (v, w)/r, indentation δ = r − gap and its rate
+//! δ̇ = n · (v̇, ẇ), for δ > 0 the wall pushes the node back with the law's normal force
+//! F(δ, δ̇) ([`WallContactLaw::normal`]; the seed's F_FS = −k₁δ − k₂δ³ − c_FS|δ|³δ̇), clamped to
+//! F ≤ 0 (the wall never pulls) and applied along n; the law's friction torque
+//! ([`WallContactLaw::friction_torque`]; the seed's T_FS = −μ_FS |F| R_bh tanh(θ̇x/ε)) acts on θx.
 
-use crate::model::WallContact;
+use crate::model::WallContactLaw;
 
 /// Contact state and forces at one node, with derivatives for the Newton tangent.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -27,13 +30,14 @@ pub struct NodeContact {
     pub damping: [[f64; 2]; 2],
     /// Power dissipated by contact damping and friction, W (≥ 0).
     pub dissipation: f64,
-    /// Elastic energy stored in the wall, ½k₁δ² + ¼k₂δ⁴, J.
+    /// Elastic energy stored in the wall (the law's; the seed's ½k₁δ² + ¼k₂δ⁴), J.
     pub elastic_energy: f64,
 }
 
-/// Forces at a node with lateral displacement (v, w), velocity (v̇, ẇ) and spin rate θ̇x.
+/// Forces at a node with lateral displacement (v, w), velocity (v̇, ẇ) and spin rate θ̇x, under
+/// wall law `law`, radial gap `gap` and borehole radius `borehole_radius` (m).
 pub fn wall_contact(
-    law: &WallContact,
+    law: &dyn WallContactLaw,
     gap: f64,
     borehole_radius: f64,
     pos: [f64; 2],
@@ -52,10 +56,8 @@ pub fn wall_contact(
     }
     let n = [pos[0] / r, pos[1] / r];
     let delta_dot = n[0] * vel[0] + n[1] * vel[1];
-    let d3 = delta * delta * delta;
-    let elastic = -law.stiffness * delta - law.cubic_stiffness * d3;
-    let damping_force = -law.damping * d3 * delta_dot;
-    let raw = elastic + damping_force;
+    let f = law.normal(delta, delta_dot);
+    let raw = f.elastic + f.dissipative;
     let clamped = raw > 0.0;
     let normal = raw.min(0.0);
     let force = [normal * n[0], normal * n[1]];
@@ -63,10 +65,7 @@ pub fn wall_contact(
     let mut damping = [[0.0; 2]; 2];
     if !clamped {
         // ∂F/∂δ, ∂F/∂δ̇ of the normal force; ∂δ/∂x = n; ∂δ̇/∂x = (vel − δ̇ n)/r; ∂n/∂x = (I − n nᵀ)/r.
-        let df_ddelta = -law.stiffness
-            - 3.0 * law.cubic_stiffness * delta * delta
-            - 3.0 * law.damping * delta * delta * delta_dot;
-        let df_ddot = -law.damping * d3;
+        let (df_ddelta, df_ddot) = (f.dforce_dindentation, f.dforce_drate);
         for i in 0..2 {
             for j in 0..2 {
                 let proj = (if i == j { 1.0 } else { 0.0 } - n[i] * n[j]) / r;
@@ -76,12 +75,11 @@ pub fn wall_contact(
             }
         }
     }
-    let slip = (spin_rate / law.sign_smoothing).tanh();
-    let torque = -law.friction * normal.abs() * borehole_radius * slip;
+    let torque = law.friction_torque(normal, borehole_radius, spin_rate);
     let damping_power = if clamped {
         0.0
     } else {
-        -damping_force * delta_dot
+        -f.dissipative * delta_dot
     };
     NodeContact {
         active: true,
@@ -93,17 +91,17 @@ pub fn wall_contact(
         stiffness,
         damping,
         dissipation: damping_power - torque * spin_rate,
-        elastic_energy: 0.5 * law.stiffness * delta * delta
-            + 0.25 * law.cubic_stiffness * delta.powi(4),
+        elastic_energy: f.energy,
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::wall::Cubic;
 
-    fn law() -> WallContact {
-        WallContact {
+    fn law() -> Cubic {
+        Cubic {
             stiffness: 1e10,
             cubic_stiffness: 1e16,
             damping: 1e9,
@@ -135,7 +133,7 @@ mod tests {
     #[test]
     fn the_wall_never_pulls() {
         // Moving away fast: the damping term would make the force attractive; it is clamped at 0.
-        let sticky = WallContact {
+        let sticky = Cubic {
             damping: 1e15,
             ..law()
         };

@@ -229,7 +229,7 @@ impl<'m> Dynamics<'m> {
             }
         }
         self.element_energies = (strain, kinetic);
-        let (law, rbh) = (&m.string.wall, m.string.borehole_radius);
+        let (law, rbh) = (m.string.wall.law(), m.string.borehole_radius);
         for node in 0..m.nodes() {
             let (iv, iw, it) = (Dof::V.at(node), Dof::W.at(node), Dof::ThetaX.at(node));
             let c = if self.effects.wall {

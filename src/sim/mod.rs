@@ -1,6 +1,6 @@
-//! One simulation of the nonlinear reduced-order drillstring model: the wall contact law, the
-//! dynamics (the bit–rock law is the model's, [`crate::model::bit`]), the recorded time history,
-//! and the run itself.
+//! One simulation of the nonlinear reduced-order drillstring model: the geometry of the wall
+//! contact, the dynamics (the wall contact and bit–rock laws are the model's,
+//! [`crate::model::wall`], [`crate::model::bit`]), the recorded time history, and the run itself.
 
 mod contact;
 mod dynamics;

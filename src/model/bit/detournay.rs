@@ -23,6 +23,7 @@
 //! there is no load. ω_r and v_r are numerical and must stay small against the operating Ω and V0.
 
 use super::{BitLawEntry, BitLoad, BitRockLaw};
+use crate::model::law::law_with_fields;
 use crate::model::parameters::ParameterSpec;
 use crate::units::{Dimension, Range};
 use std::f64::consts::PI;
@@ -129,44 +130,25 @@ const PARAMETERS: [ParameterSpec; 9] = [
     },
 ];
 
-/// Registry entry.
-pub(super) const ENTRY: BitLawEntry = BitLawEntry {
-    name: "detournay",
-    doc: "drag-bit cutting and wear-flat friction, W = ζεad + σaℓ, T = ½εa²d + ½μγaσaℓ, d = 2πu̇/θ̇ (Detournay & Defourny 1992; Detournay et al. 2008)",
-    parameters: &PARAMETERS,
-    build: |v| Box::new(Detournay::from_values(v)),
-};
+law_with_fields!(
+    Detournay: BitLawEntry,
+    "detournay",
+    "drag-bit cutting and wear-flat friction, W = ζεad + σaℓ, T = ½εa²d + ½μγaσaℓ, d = 2πu̇/θ̇ (Detournay & Defourny 1992; Detournay et al. 2008)",
+    PARAMETERS,
+    [
+        radius,
+        specific_energy,
+        cutting_force_ratio,
+        contact_strength,
+        wear_flat_length,
+        friction,
+        geometry,
+        spin_smoothing,
+        velocity_smoothing,
+    ]
+);
 
 impl Detournay {
-    /// The law from its parameter values in table order (SI).
-    pub fn from_values(v: &[f64]) -> Self {
-        Detournay {
-            radius: v[0],
-            specific_energy: v[1],
-            cutting_force_ratio: v[2],
-            contact_strength: v[3],
-            wear_flat_length: v[4],
-            friction: v[5],
-            geometry: v[6],
-            spin_smoothing: v[7],
-            velocity_smoothing: v[8],
-        }
-    }
-
-    fn fields(&mut self) -> [&mut f64; 9] {
-        [
-            &mut self.radius,
-            &mut self.specific_energy,
-            &mut self.cutting_force_ratio,
-            &mut self.contact_strength,
-            &mut self.wear_flat_length,
-            &mut self.friction,
-            &mut self.geometry,
-            &mut self.spin_smoothing,
-            &mut self.velocity_smoothing,
-        ]
-    }
-
     /// Depth of cut per revolution d = 2π u̇/ω̂, m, at the given velocities (u̇ > 0).
     pub fn depth_of_cut(&self, vel: f64, spin: f64) -> f64 {
         2.0 * PI * vel / spin.hypot(self.spin_smoothing)
@@ -174,32 +156,6 @@ impl Detournay {
 }
 
 impl BitRockLaw for Detournay {
-    fn name(&self) -> &'static str {
-        ENTRY.name
-    }
-
-    fn parameters(&self) -> &'static [ParameterSpec] {
-        &PARAMETERS
-    }
-
-    fn value(&self, index: usize) -> f64 {
-        [
-            self.radius,
-            self.specific_energy,
-            self.cutting_force_ratio,
-            self.contact_strength,
-            self.wear_flat_length,
-            self.friction,
-            self.geometry,
-            self.spin_smoothing,
-            self.velocity_smoothing,
-        ][index]
-    }
-
-    fn set(&mut self, index: usize, value: f64) {
-        *self.fields()[index] = value;
-    }
-
     fn load(&self, vel: f64, spin: f64) -> BitLoad {
         if vel <= 0.0 {
             return BitLoad::default();
@@ -229,10 +185,6 @@ impl BitRockLaw for Detournay {
             dtorque_dvel: -s * dtob_dvel,
             dtorque_dspin: -(s * cut_t * dd_dspin + tob * ds_dspin),
         }
-    }
-
-    fn clone_box(&self) -> Box<dyn BitRockLaw> {
-        Box::new(self.clone())
     }
 }
 

@@ -6,6 +6,7 @@
 //! ξ is odd, rises to ≈ 1.8 near ω ≈ 1.4 rad/s and decays towards 1: velocity weakening.
 
 use super::{BitLawEntry, BitLoad, BitRockLaw};
+use crate::model::law::law_with_fields;
 use crate::model::parameters::ParameterSpec;
 use crate::units::{Dimension, Range};
 
@@ -47,19 +48,13 @@ const PARAMETERS: [ParameterSpec; 3] = [
     },
 ];
 
-/// Registry entry.
-pub(super) const ENTRY: BitLawEntry = BitLawEntry {
-    name: "exponential",
-    doc: "the seed paper's law: WOB = Γ(1 − e^(−α u̇)), TOB = μ WOB ξ(θ̇) (Cunha Jr et al. 2014, Eqs. (4)-(5))",
-    parameters: &PARAMETERS,
-    build: |v| {
-        Box::new(Exponential {
-            limit_force: v[0],
-            rate: v[1],
-            friction: v[2],
-        })
-    },
-};
+law_with_fields!(
+    Exponential: BitLawEntry,
+    "exponential",
+    "the seed paper's law: WOB = Γ(1 − e^(−α u̇)), TOB = μ WOB ξ(θ̇) (Cunha Jr et al. 2014, Eqs. (4)-(5))",
+    PARAMETERS,
+    [limit_force, rate, friction]
+);
 
 /// The velocity-weakening function ξ(ω) and its derivative ξ′(ω).
 pub fn xi(omega: f64) -> (f64, f64) {
@@ -72,22 +67,6 @@ pub fn xi(omega: f64) -> (f64, f64) {
 }
 
 impl BitRockLaw for Exponential {
-    fn name(&self) -> &'static str {
-        ENTRY.name
-    }
-
-    fn parameters(&self) -> &'static [ParameterSpec] {
-        &PARAMETERS
-    }
-
-    fn value(&self, index: usize) -> f64 {
-        [self.limit_force, self.rate, self.friction][index]
-    }
-
-    fn set(&mut self, index: usize, value: f64) {
-        *[&mut self.limit_force, &mut self.rate, &mut self.friction][index] = value;
-    }
-
     fn load(&self, vel: f64, spin: f64) -> BitLoad {
         if vel <= 0.0 {
             return BitLoad::default();
@@ -105,10 +84,6 @@ impl BitRockLaw for Exponential {
             dtorque_dvel: -self.friction * (-dforce_dvel) * x,
             dtorque_dspin: -self.friction * magnitude * dx,
         }
-    }
-
-    fn clone_box(&self) -> Box<dyn BitRockLaw> {
-        Box::new(self.clone())
     }
 }
 

@@ -3,17 +3,16 @@
 use std::path::Path;
 
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::report::axes::{axis_range, tick_label};
+use crate::report::axes::axis_range;
 use crate::report::plots::PlotError;
 
 use super::StarredPoint;
 use super::geometry::{cell_edges, is_finite_point};
-use super::side::{LegendEntry, draw_colorbar, draw_legend, split_body, star_caption};
+use super::side::{LegendEntry, draw_colorbar, draw_legend, draw_star, plane_chart, plane_figure};
 use super::style::{
-    Area, DrawResult, FONT, HEIGHT, NO_VALUE_CELL, OMEGA_LABEL, Point, V0_LABEL, WIDTH,
-    render_and_write, scale_color, star_marker, text_style, value_range,
+    Area, DrawResult, HEIGHT, NO_VALUE_CELL, Point, WIDTH, render_and_write, scale_color,
+    value_range,
 };
 
 /// Draws `values` over the grid of cell centres `omega_rpm` × `v0_m_per_h` as filled cells
@@ -65,9 +64,7 @@ fn draw_heatmap(
     grid: &Grid<'_>,
     star: Option<&StarredPoint>,
 ) -> DrawResult {
-    root.fill(&WHITE)?;
-    let body = root.titled(title, (FONT, 26))?;
-    let (plot_area, bar_area, legend_area) = split_body(&body);
+    let (plot_area, bar_area, legend_area) = plane_figure(root, title)?;
 
     let x_edges = cell_edges(grid.omega);
     let y_edges = cell_edges(grid.v0);
@@ -86,25 +83,14 @@ fn draw_heatmap(
     let (x_lo, x_hi) = view(&x_edges, optimum.map(|o| o.0));
     let (y_lo, y_hi) = view(&y_edges, optimum.map(|o| o.1));
 
-    let mut chart = ChartBuilder::on(&plot_area)
-        .caption(star_caption(star_label, optimum), (FONT, 17))
-        .margin(10)
-        .margin_right(20)
-        .x_label_area_size(50)
-        .y_label_area_size(75)
-        .build_cartesian_2d(x_lo..x_hi, y_lo..y_hi)?;
-    let x_fmt = |v: &f64| tick_label(*v, x_lo, x_hi);
-    let y_fmt = |v: &f64| tick_label(*v, y_lo, y_hi);
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc(OMEGA_LABEL)
-        .y_desc(V0_LABEL)
-        .x_label_formatter(&x_fmt)
-        .y_label_formatter(&y_fmt)
-        .label_style((FONT, 15))
-        .axis_desc_style((FONT, 17))
-        .draw()?;
+    let mut chart = plane_chart(
+        &plot_area,
+        star_label,
+        optimum,
+        (x_lo, x_hi),
+        (y_lo, y_hi),
+        None,
+    )?;
 
     // Cells at non-finite nodes are not drawn, so their values do not set the colour range.
     let n_omega = grid.omega.len();
@@ -140,20 +126,10 @@ fn draw_heatmap(
     let any_missing = !hatches.is_empty();
     chart.draw_series(cells)?;
     chart.draw_series(hatches)?;
-    if let Some(opt) = optimum {
-        chart.plotting_area().draw(&star_marker(opt, 13.0))?;
-    }
+    draw_star(&chart, optimum)?;
 
-    match range {
-        Some(range) => draw_colorbar(&bar_area, value_label, range)?,
-        None => {
-            bar_area.draw(&Text::new(
-                format!("{value_label}: no values"),
-                (20, 40),
-                text_style(14, BLACK, HPos::Left, VPos::Center),
-            ))?;
-        }
-    }
+    let none = format!("{value_label}: no values");
+    draw_colorbar(&bar_area, value_label, range, &none)?;
     let mut entries = Vec::new();
     if any_missing {
         entries.push((
@@ -170,7 +146,9 @@ fn draw_heatmap(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::study_plots::style::{COLORBAR_STEPS, STAR_FILL, viridis};
+    use crate::report::study_plots::style::{
+        COLORBAR_STEPS, OMEGA_LABEL, STAR_FILL, V0_LABEL, viridis,
+    };
     use crate::report::study_plots::test_support::*;
 
     fn starred(omega_rpm: f64, v0_m_per_h: f64) -> StarredPoint {

@@ -5,7 +5,7 @@ use std::path::Path;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::report::axes::{axis_range, tick_label};
+use crate::report::axes::{axis_range, tick_label, titled_figure};
 use crate::report::plots::PlotError;
 
 use super::style::{
@@ -90,8 +90,7 @@ pub fn plot_metric_samples(title: &str, rows: &[MetricRow], out: &Path) -> Resul
 }
 
 fn draw_metric_samples(root: &Area<'_>, title: &str, rows: &[MetricRow]) -> DrawResult {
-    root.fill(&WHITE)?;
-    let body = root.titled(title, (FONT, 26))?;
+    let body = titled_figure(root, title)?;
     if rows.is_empty() {
         body.draw(&Text::new(
             "no metrics",

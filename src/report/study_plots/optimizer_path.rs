@@ -4,18 +4,17 @@
 
 use std::path::Path;
 
-use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::report::axes::{axis_range, tick_label};
+use crate::report::axes::{XyChart, axis_range};
 use crate::report::plots::PlotError;
 
 use super::geometry::{clip_box_to_halfplane, clip_line_to_box, finite_bounds, is_finite_point};
-use super::side::{LegendEntry, draw_colorbar, draw_legend, split_body, star_caption};
+use super::side::{LegendEntry, draw_colorbar, draw_legend, draw_star, plane_chart, plane_figure};
 use super::style::{
-    Area, DrawResult, FONT, HEIGHT, INFEASIBLE_FILL, NO_VALUE, OMEGA_LABEL, PATH_COLOR, V0_LABEL,
-    WIDTH, render_and_write, scale_color, star_marker, text_style, value_range,
+    Area, DrawResult, HEIGHT, INFEASIBLE_FILL, NO_VALUE, PATH_COLOR, WIDTH, render_and_write,
+    scale_color, text_style, value_range,
 };
 use super::{ConstraintLine, EvaluatedPoint, Region};
 
@@ -56,9 +55,7 @@ fn draw_optimizer_path(
     optimum: Option<(f64, f64)>,
     title: &str,
 ) -> DrawResult {
-    root.fill(&WHITE)?;
-    let body = root.titled(title, (FONT, 26))?;
-    let (plot_area, bar_area, legend_area) = split_body(&body);
+    let (plot_area, bar_area, legend_area) = plane_figure(root, title)?;
 
     let bx = finite_bounds(region.omega_rpm);
     let by = finite_bounds(region.v0_m_per_h);
@@ -85,26 +82,14 @@ fn draw_optimizer_path(
     let (x_lo, x_hi) = axis_range(all().map(|p| p.0), 0.04);
     let (y_lo, y_hi) = axis_range(all().map(|p| p.1), 0.04);
 
-    let mut chart = ChartBuilder::on(&plot_area)
-        .caption(star_caption("optimum", optimum), (FONT, 17))
-        .margin(10)
-        .margin_right(20)
-        .x_label_area_size(50)
-        .y_label_area_size(75)
-        .build_cartesian_2d(x_lo..x_hi, y_lo..y_hi)?;
-    let x_fmt = |v: &f64| tick_label(*v, x_lo, x_hi);
-    let y_fmt = |v: &f64| tick_label(*v, y_lo, y_hi);
-    chart
-        .configure_mesh()
-        .x_desc(OMEGA_LABEL)
-        .y_desc(V0_LABEL)
-        .x_label_formatter(&x_fmt)
-        .y_label_formatter(&y_fmt)
-        .label_style((FONT, 15))
-        .axis_desc_style((FONT, 17))
-        .light_line_style(BLACK.mix(0.04))
-        .bold_line_style(BLACK.mix(0.12))
-        .draw()?;
+    let mut chart = plane_chart(
+        &plot_area,
+        "optimum",
+        optimum,
+        (x_lo, x_hi),
+        (y_lo, y_hi),
+        Some((0.04, 0.12)),
+    )?;
 
     let lines: Vec<&ConstraintLine> = region
         .lines
@@ -171,20 +156,14 @@ fn draw_optimizer_path(
     }
 
     draw_path(&mut chart, &path_points)?;
-    if let Some(opt) = optimum {
-        chart.plotting_area().draw(&star_marker(opt, 13.0))?;
-    }
+    draw_star(&chart, optimum)?;
 
-    match range {
-        Some(range) => draw_colorbar(&bar_area, "score (higher is better)", range)?,
-        None => {
-            bar_area.draw(&Text::new(
-                "no scored points",
-                (20, 40),
-                text_style(14, BLACK, HPos::Left, VPos::Center),
-            ))?;
-        }
-    }
+    draw_colorbar(
+        &bar_area,
+        "score (higher is better)",
+        range,
+        "no scored points",
+    )?;
     let mut entries = Vec::new();
     if range.is_some() {
         entries.push((
@@ -207,11 +186,9 @@ fn draw_optimizer_path(
     draw_legend(&legend_area, &entries)
 }
 
-type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
-
 /// The iterate path: a line with an arrowhead mid-segment, a dot and a number per iterate
 /// (every k-th when there are many). `points` are (original index, point).
-fn draw_path(chart: &mut Chart<'_, '_>, points: &[(usize, (f64, f64))]) -> DrawResult {
+fn draw_path(chart: &mut XyChart<'_, '_>, points: &[(usize, (f64, f64))]) -> DrawResult {
     if points.is_empty() {
         return Ok(());
     }
@@ -273,7 +250,7 @@ fn draw_path(chart: &mut Chart<'_, '_>, points: &[(usize, (f64, f64))]) -> DrawR
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::study_plots::style::{STAR_FILL, viridis};
+    use crate::report::study_plots::style::{OMEGA_LABEL, STAR_FILL, V0_LABEL, viridis};
     use crate::report::study_plots::test_support::*;
 
     #[test]

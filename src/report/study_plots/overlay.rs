@@ -4,12 +4,15 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::report::axes::{PLOT_BUCKETS, axis_range, decimate_min_max, draw_legend, tick_label};
+use crate::report::axes::{
+    PLOT_BUCKETS, TIME_LAYOUT, axis_range, decimate_min_max, draw_legend, draw_level,
+    titled_figure, xy_chart,
+};
 use crate::report::plots::PlotError;
 use crate::report::units::{RPM_PER_RAD_S, short};
 use crate::sim::TimeSeries;
 
-use super::style::{Area, DrawResult, FONT, RUN_COLORS, WIDE_WIDTH, render_and_write};
+use super::style::{Area, DrawResult, RUN_COLORS, WIDE_WIDTH, render_and_write};
 
 /// Height of [`plot_bit_speed_overlay`], px.
 const OVERLAY_HEIGHT: u32 = 520;
@@ -70,31 +73,18 @@ struct Curve<'a> {
 }
 
 fn draw_overlay(root: &Area<'_>, curves: &[Curve<'_>]) -> DrawResult {
-    root.fill(&WHITE)?;
-    let body = root.titled(OVERLAY_TITLE, (FONT, 26))?;
+    let body = titled_figure(root, OVERLAY_TITLE)?;
     let points = || curves.iter().flat_map(|c| c.points.iter());
     let (t_lo, t_hi) = axis_range(points().map(|p| p.0), 0.0);
     let omegas = || curves.iter().filter_map(|c| c.omega_rpm);
     let (y_lo, y_hi) = axis_range(points().map(|p| p.1).chain(omegas()).chain([0.0]), 0.05);
-    let mut chart = ChartBuilder::on(&body)
-        .margin(10)
-        .margin_right(25)
-        .x_label_area_size(50)
-        .y_label_area_size(85)
-        .build_cartesian_2d(t_lo..t_hi, y_lo..y_hi)?;
-    let x_fmt = |v: &f64| tick_label(*v, t_lo, t_hi);
-    let y_fmt = |v: &f64| tick_label(*v, y_lo, y_hi);
-    chart
-        .configure_mesh()
-        .x_desc("t [s]")
-        .y_desc("\u{3b8}\u{307}x(L) [rpm]")
-        .x_label_formatter(&x_fmt)
-        .y_label_formatter(&y_fmt)
-        .label_style((FONT, 15))
-        .axis_desc_style((FONT, 17))
-        .light_line_style(BLACK.mix(0.05))
-        .bold_line_style(BLACK.mix(0.15))
-        .draw()?;
+    let mut chart = xy_chart(
+        &body,
+        None,
+        ("t [s]", (t_lo, t_hi)),
+        ("\u{3b8}\u{307}x(L) [rpm]", (y_lo, y_hi)),
+        TIME_LAYOUT,
+    )?;
     for (k, c) in curves.iter().enumerate() {
         let color = RUN_COLORS[k % RUN_COLORS.len()];
         let style = color.stroke_width(1);
@@ -104,13 +94,7 @@ fn draw_overlay(root: &Area<'_>, curves: &[Curve<'_>]) -> DrawResult {
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], style.stroke_width(2)));
         if let Some(omega) = c.omega_rpm {
             let dashed = color.stroke_width(2);
-            chart
-                .draw_series(DashedLineSeries::new(
-                    [(t_lo, omega), (t_hi, omega)],
-                    10,
-                    6,
-                    dashed,
-                ))?
+            draw_level(&mut chart, (t_lo, t_hi), omega, dashed)?
                 .label(format!("\u{3a9} = {} rpm (imposed)", short(omega)))
                 .legend(move |at| {
                     EmptyElement::at(at)

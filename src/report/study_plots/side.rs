@@ -1,16 +1,16 @@
-//! The side column of the operating-point plots: a colour bar with its range (or the value of a
-//! constant field), a hand-drawn legend, the split of the figure into plot and side column, and
-//! the caption of the starred point.
+//! The frame of the operating-point plots: the split of the figure into the chart of the Ω–V0
+//! plane and a side column, the chart with the caption of its starred point, and in the side
+//! column a colour bar with its range (or the value of a constant field) and a hand-drawn legend.
 
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::report::axes::{axis_range, tick_label};
+use crate::report::axes::{Layout, XyChart, axis_range, tick_label, titled_figure, xy_chart};
 
 use super::geometry::is_finite_point;
 use super::style::{
-    Area, COLORBAR_STEPS, DrawResult, FONT, INFEASIBLE_FILL, NO_VALUE, NO_VALUE_CELL, PATH_COLOR,
-    SIDE_WIDTH, fmt_sig, is_constant, star_marker, text_style, viridis,
+    Area, COLORBAR_STEPS, DrawResult, FONT, INFEASIBLE_FILL, NO_VALUE, NO_VALUE_CELL, OMEGA_LABEL,
+    PATH_COLOR, SIDE_WIDTH, V0_LABEL, fmt_sig, is_constant, star_marker, text_style, viridis,
 };
 
 /// One row of a hand-drawn legend.
@@ -77,10 +77,24 @@ pub(super) fn draw_legend(area: &Area<'_>, entries: &[(LegendEntry, String)]) ->
     Ok(())
 }
 
-/// Draws a vertical colour bar for the data range [`min`, `max`] labelled `label`, with tick
-/// labels and the exact minimum and maximum. A constant field gets no bar (a padded one would
-/// show a range the data do not have) but one swatch with its value, said to be constant.
-pub(super) fn draw_colorbar(area: &Area<'_>, label: &str, (min, max): (f64, f64)) -> DrawResult {
+/// Draws a vertical colour bar for the data range `range` = [`min`, `max`] labelled `label`, with
+/// tick labels and the exact minimum and maximum. A constant field gets no bar (a padded one
+/// would show a range the data do not have) but one swatch with its value, said to be constant;
+/// no range at all (no value to colour) gets the text `none`.
+pub(super) fn draw_colorbar(
+    area: &Area<'_>,
+    label: &str,
+    range: Option<(f64, f64)>,
+    none: &str,
+) -> DrawResult {
+    let Some((min, max)) = range else {
+        area.draw(&Text::new(
+            none.to_owned(),
+            (20, 40),
+            text_style(14, BLACK, HPos::Left, VPos::Center),
+        ))?;
+        return Ok(());
+    };
     if is_constant((min, max)) {
         return draw_constant(area, label, min);
     }
@@ -157,12 +171,52 @@ fn draw_constant(area: &Area<'_>, label: &str, value: f64) -> DrawResult {
     Ok(())
 }
 
-/// Splits the figure body into the plot and the side column (colour bar above the legend).
-pub(super) fn split_body<'a>(body: &Area<'a>) -> (Area<'a>, Area<'a>, Area<'a>) {
+/// The operating-point figure on `root`: titled `title`, split into the chart of the plane on the
+/// left and the side column right of it, [`SIDE_WIDTH`] px wide, its upper three fifths for the
+/// colour bar and the rest for the legend: (plot, bar, legend).
+pub(super) fn plane_figure<'a>(
+    root: &Area<'a>,
+    title: &str,
+) -> Result<(Area<'a>, Area<'a>, Area<'a>), DrawingAreaErrorKind<std::io::Error>> {
+    let body = titled_figure(root, title)?;
     let (w, h) = body.dim_in_pixel();
     let (plot, side) = body.split_horizontally(w.saturating_sub(SIDE_WIDTH));
     let (bar, legend) = side.split_vertically(h * 3 / 5);
-    (plot, bar, legend)
+    Ok((plot, bar, legend))
+}
+
+/// The starred point (if any, in plot units) as a star on `chart`.
+pub(super) fn draw_star(chart: &XyChart<'_, '_>, point: Option<(f64, f64)>) -> DrawResult {
+    match point {
+        Some(p) => chart.plotting_area().draw(&star_marker(p, 13.0)),
+        None => Ok(()),
+    }
+}
+
+/// The chart of the Ω–V0 plane over `x` × `y` (rpm, m/h) on `area`, captioned with the starred
+/// `point` named `what` (see [`star_caption`]), with the operating-point plots' layout and the
+/// `grid` of [`Layout`].
+pub(super) fn plane_chart<'a, 'b>(
+    area: &'a Area<'b>,
+    what: &str,
+    point: Option<(f64, f64)>,
+    x: (f64, f64),
+    y: (f64, f64),
+    grid: Option<(f64, f64)>,
+) -> Result<XyChart<'a, 'b>, DrawingAreaErrorKind<std::io::Error>> {
+    let layout = Layout {
+        margin_right: 20,
+        y_label_area: 75,
+        grid,
+    };
+    let caption = star_caption(what, point);
+    xy_chart(
+        area,
+        Some((&caption, 17)),
+        (OMEGA_LABEL, x),
+        (V0_LABEL, y),
+        layout,
+    )
 }
 
 /// Caption text "`what`: Ω = … rpm, V0 = … m/h" for a starred point, or an empty string.
