@@ -3,12 +3,14 @@
 
 mod basis;
 pub mod bit;
+mod buckling;
 pub mod parameters;
 mod params;
 mod section;
 
 pub use basis::{BasisSpec, FamilySize};
 pub use bit::{BitLoad, BitRock, BitRockLaw};
+pub use buckling::BucklingLoads;
 pub use parameters::{Enters, ParameterKey, ParameterSpec};
 pub use params::{
     API_GRADES, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start, WallContact,

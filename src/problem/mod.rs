@@ -10,6 +10,7 @@ pub mod limits;
 pub mod schema;
 pub mod study;
 mod validate;
+mod validate_fatigue;
 mod validate_study;
 
 pub use crate::units::{self, Dimension, UnitError};

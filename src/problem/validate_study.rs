@@ -46,11 +46,26 @@ pub(super) fn study(
                 Some(format!("constraints.chance[{i}].metric"))
             })
     };
-    if let Some(key) = at(&|m| m == "von_mises_safety_factor") {
-        return Err(c.fail(
-            &key,
-            "von_mises_safety_factor is larger when safer, and risk terms and chance constraints penalise large values: use von_mises_utilization (peak stress / yield strength = 1 / safety factor), e.g. a chance constraint with threshold 0.5 for a safety factor of at least 2".into(),
-        ));
+    for (safer, instead) in LARGER_IS_SAFER {
+        if let Some(key) = at(&|m| m == safer) {
+            let hint = match safer {
+                "von_mises_safety_factor" => {
+                    "(peak stress / yield strength = 1 / safety factor), e.g. a chance constraint with threshold 0.5 for a safety factor of at least 2"
+                }
+                "fatigue_life_h" => {
+                    "(Miner damage per hour = 1 / life), e.g. a chance constraint with threshold \"1e-3 1/h\" for a life of at least 1000 h"
+                }
+                _ => {
+                    "(compression / sinusoidal buckling load = 1 − margin), e.g. a chance constraint with threshold 0.5 for a margin of at least 0.5"
+                }
+            };
+            return Err(c.fail(
+                &key,
+                format!(
+                    "{safer} is larger when safer, and risk terms and chance constraints penalise large values: use {instead} {hint}"
+                ),
+            ));
+        }
     }
     if model.pipe.yield_strength.is_none()
         && let Some(key) = at(&|m| m == "von_mises_utilization")
@@ -277,6 +292,70 @@ fn metric(c: &Checker, key: &str, name: &str) -> Result<String, ProblemError> {
     }
 }
 
+/// A threshold on `metric`, in the metric's unit ([`metric_unit`]): a bare number as it is (the
+/// metric's own value, SI but for the few keys that name another unit), a string with a unit of
+/// the metric's dimension converted; a unit of another dimension, or any unit on a dimensionless
+/// metric, is refused naming the metric's unit (recorded: the value reads as NaN).
+fn threshold(c: &Checker, key: &str, metric: &str, raw: &RawQuantity) -> Result<f64, ProblemError> {
+    let (dim, per_si) = metric_unit(metric).expect("every metric has a unit");
+    let value = match raw {
+        RawQuantity::Number(v) => *v,
+        RawQuantity::Text(t) => match dim.parse(t) {
+            Ok(si) => si * per_si,
+            Err(e) => {
+                let what = if dim == super::Dimension::Dimensionless {
+                    format!("{metric} is dimensionless: a plain number")
+                } else {
+                    let units: Vec<&str> = dim.units().iter().map(|u| u.0).collect();
+                    format!(
+                        "{metric} is {}: a number in {} or a string with one of the units {}",
+                        dimension_name(dim),
+                        own_unit(metric, dim),
+                        units.join(", ")
+                    )
+                };
+                // Recorded, so that the other thresholds and keys are checked in the same pass.
+                return Ok(c.record(key, format!("`{t}` is not allowed ({}); {what}", e.reason)));
+            }
+        },
+    };
+    if !value.is_finite() {
+        return Ok(c.record(key, format!("must be finite, got {value}")));
+    }
+    Ok(value)
+}
+
+/// The unit a bare threshold of `metric` is read in: the one its key names.
+fn own_unit(metric: &str, dim: super::Dimension) -> &'static str {
+    match metric {
+        "mean_rop_m_per_h" => "m/h",
+        "fatigue_damage_per_h" => "1/h",
+        "fatigue_life_h" => "h",
+        _ => dim.si_unit(),
+    }
+}
+
+/// "a force", "a stress (pressure)": for messages.
+fn dimension_name(dim: super::Dimension) -> &'static str {
+    use super::Dimension::*;
+    match dim {
+        Dimensionless => "dimensionless",
+        Length => "a length",
+        Time => "a time",
+        Velocity => "a velocity",
+        AngularVelocity => "an angular velocity",
+        Force => "a force",
+        Pressure => "a stress (pressure)",
+        Density => "a density",
+        Acceleration => "an acceleration",
+        Rate | Frequency => "a rate",
+        InverseVelocity => "an inverse velocity",
+        Stiffness | CubicStiffness => "a stiffness",
+        Torque => "a torque",
+        Impulse => "an impulse",
+    }
+}
+
 fn objective(
     c: &Checker,
     o: &ObjectiveSection,
@@ -304,12 +383,17 @@ fn objective(
     for (i, r) in o.risk.iter().enumerate() {
         let key = format!("objective.risk[{i}]");
         let m = metric(c, &format!("{key}.metric"), &r.metric)?;
+        let threshold = r
+            .threshold
+            .as_ref()
+            .map(|t| threshold(c, &format!("{key}.threshold"), &m, t))
+            .transpose()?;
         let s = statistic(
             c,
             &key,
             r.statistic.as_deref().unwrap_or("mean"),
             r.level,
-            r.threshold,
+            threshold,
             &["mean", "std_dev", "cvar", "prob_exceed", "quantile", "max"],
             RISKS,
         )?;
@@ -432,12 +516,7 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
     for (i, ch) in k.chance.iter().enumerate() {
         let key = format!("constraints.chance[{i}]");
         let m = metric(c, &format!("{key}.metric"), &ch.metric)?;
-        if !ch.threshold.is_finite() {
-            return Err(c.fail(
-                &format!("{key}.threshold"),
-                format!("must be finite, got {}", ch.threshold),
-            ));
-        }
+        let threshold = threshold(c, &format!("{key}.threshold"), &m, &ch.threshold)?;
         if !(0.0..1.0).contains(&ch.max_probability) {
             return Err(c.fail(
                 &format!("{key}.max_probability"),
@@ -446,7 +525,7 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
         }
         chance.push(ChanceConstraint {
             metric: m,
-            threshold: ch.threshold,
+            threshold,
             max_probability: ch.max_probability,
         });
     }

@@ -211,6 +211,18 @@ pub fn plot_panels(
     t: &[f64],
     panels: &[Panel<'_>],
 ) -> Result<(), PlotError> {
+    plot_panels_over(path, title, t, "t [s]", panels)
+}
+
+/// [`plot_panels`] against any abscissa `x` (e.g. the position along the string), labelled
+/// `x_label` with its unit.
+pub fn plot_panels_over(
+    path: &Path,
+    title: &str,
+    t: &[f64],
+    x_label: &str,
+    panels: &[Panel<'_>],
+) -> Result<(), PlotError> {
     if let Some(p) = panels.iter().find(|p| p.y.len() != t.len()) {
         return Err(PlotError::LengthMismatch {
             path: path.to_owned(),
@@ -219,7 +231,7 @@ pub fn plot_panels(
             t_len: t.len(),
         });
     }
-    let svg = render_svg(title, t, panels).map_err(|message| PlotError::Draw {
+    let svg = render_svg(title, t, x_label, panels).map_err(|message| PlotError::Draw {
         path: path.to_owned(),
         message,
     })?;
@@ -229,13 +241,18 @@ pub fn plot_panels(
     })
 }
 
-fn render_svg(title: &str, t: &[f64], panels: &[Panel<'_>]) -> Result<String, String> {
+fn render_svg(
+    title: &str,
+    t: &[f64],
+    x_label: &str,
+    panels: &[Panel<'_>],
+) -> Result<String, String> {
     let rows = u32::try_from(panels.len().max(1)).unwrap_or(u32::MAX);
     let height = TITLE_HEIGHT.saturating_add(PANEL_HEIGHT.saturating_mul(rows));
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
-        draw_figure(&root, title, t, panels).map_err(|e| e.to_string())?;
+        draw_figure(&root, title, t, x_label, panels).map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(svg)
@@ -247,6 +264,7 @@ fn draw_figure(
     root: &DrawingArea<SVGBackend<'_>, Shift>,
     title: &str,
     t: &[f64],
+    x_label: &str,
     panels: &[Panel<'_>],
 ) -> DrawResult {
     root.fill(&WHITE)?;
@@ -255,7 +273,7 @@ fn draw_figure(
         return Ok(());
     }
     for (area, panel) in body.split_evenly((panels.len(), 1)).iter().zip(panels) {
-        draw_panel(area, t, panel)?;
+        draw_panel(area, t, x_label, panel)?;
     }
     Ok(())
 }
@@ -263,6 +281,7 @@ fn draw_figure(
 fn draw_panel(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     t: &[f64],
+    x_label: &str,
     panel: &Panel<'_>,
 ) -> DrawResult {
     let mut points = decimate_min_max(t, panel.y, PLOT_BUCKETS);
@@ -285,7 +304,7 @@ fn draw_panel(
     let y_fmt = |v: &f64| tick_label(*v, y_lo, y_hi);
     chart
         .configure_mesh()
-        .x_desc("t [s]")
+        .x_desc(x_label)
         .y_desc(panel.y_label)
         .x_label_formatter(&x_fmt)
         .y_label_formatter(&y_fmt)
