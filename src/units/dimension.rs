@@ -310,6 +310,16 @@ mod tests {
             Dimension::Velocity.parse("100 ft/h").unwrap(),
             30.48 / 3600.0,
         );
+        // Torques (thresholds of torque metrics): 1 ft·lbf = 0.3048 m × 1 lbf (NIST SP 811, B.8:
+        // 1.355818 N·m).
+        close(
+            Dimension::Torque.parse("1 ft·lbf").unwrap(),
+            1.3558179483314004,
+        );
+        assert!((Dimension::Torque.parse("1 ft.lbf").unwrap() - 1.355818).abs() < 1e-6);
+        close(Dimension::Torque.parse("2.5 kN·m").unwrap(), 2500.0);
+        close(Dimension::Impulse.parse("3 kN·s").unwrap(), 3000.0);
+        close(Dimension::Rate.parse("7.2 1/h").unwrap(), 0.002);
         // A unit of another dimension is still refused, listing the oilfield units too.
         let err = Dimension::Density.parse("10 psi").unwrap_err().to_string();
         assert!(
