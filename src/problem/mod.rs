@@ -12,6 +12,7 @@ pub mod study;
 mod validate;
 mod validate_fatigue;
 mod validate_study;
+mod validate_threshold;
 
 pub use crate::units::{self, Dimension, UnitError};
 pub use error::{KeyError, ProblemError};
