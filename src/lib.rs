@@ -6,6 +6,7 @@
 
 pub mod cache;
 pub mod cli;
+pub mod fatigue;
 pub mod fem;
 pub mod hash;
 pub mod integrate;

@@ -1,12 +1,14 @@
 //! The time-step loop allocates nothing: a counting global allocator around Newmark steps of the
-//! full drillstring system (wall contact and bit engaged, strain tangent refreshed). This file
+//! full drillstring system (wall contact and bit engaged, strain tangent refreshed) and the
+//! stress envelope's recording (fatigue rainflow counters included). This file
 //! holds a single test so that no other test allocates concurrently.
 
+use drillopt::fem::SectionStress;
 use drillopt::integrate::{Newmark, NewmarkSettings, StepOutcome};
 use drillopt::model::{BasisSpec, FamilySize};
 use drillopt::problem::Problem;
 use drillopt::rom::ReducedModel;
-use drillopt::sim::{Dynamics, Effects, preloaded_equilibrium};
+use drillopt::sim::{Dynamics, Effects, StressEnvelope, preloaded_equilibrium};
 use nalgebra::DVector;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -59,6 +61,11 @@ fn newmark_steps_of_the_drillstring_allocate_nothing() {
     let mut nm = Newmark::new(settings, 0.0, q, DVector::zeros(n), DVector::zeros(n));
     assert!(nm.consistent_acceleration(&mut sys));
     let h = 1e-4;
+    // The stress envelope recorded at every accepted step: section loads, fibre stresses of the
+    // spinning sections and their rainflow counters (buffers allocated here, once).
+    let elements = model.elements();
+    let stress = SectionStress::new(&model.string, model.string.length / elements as f64);
+    let mut envelope = StressEnvelope::for_string(&model.string, elements, 0.0);
     let before = ALLOCATIONS.load(Ordering::SeqCst);
     for _ in 0..20 {
         let outcome = nm.attempt(&mut sys, h);
@@ -69,6 +76,8 @@ fn newmark_steps_of_the_drillstring_allocate_nothing() {
         nm.accept(h);
         // The observation recorded after each accepted step.
         std::hint::black_box(sys.observe_step(&nm.q, &nm.v, &nm.a));
+        let spin = p.operating_point.omega * nm.t;
+        envelope.record(nm.t, sys.displacement_full(), spin, &stress);
     }
     let after = ALLOCATIONS.load(Ordering::SeqCst);
     assert!(

@@ -185,6 +185,16 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             let name = format!("radial_x{}m.svg", x);
             report::plot_probe_radial(s, k, problem.model.gap(), &op, &out.join(name))?;
         }
+        let envelope = &output.envelope;
+        if envelope.rainflow_overflows > 0 {
+            eprintln!(
+                "warning: {} rainflow residues filled their {} turning points; the oldest were counted as half cycles, so the fatigue damage is approximate (see fatigue::Rainflow)",
+                envelope.rainflow_overflows,
+                crate::fatigue::RAINFLOW_CAPACITY
+            );
+        }
+        report::write_envelope_csv(&out.join("stress_envelope.csv"), envelope)?;
+        report::plot_stress_envelope(envelope, &op, &out.join("stress_envelope.svg"))?;
     }
     print_summary(&summary, &out);
     if let Some(e) = &output.error {
@@ -244,6 +254,7 @@ fn print_summary(s: &SummaryJson, out: &Path) {
             m.mean_tob_nm / 1e3,
             m.energy_balance_residual
         );
+        println!("  {}", integrity_line(m));
     } else if let Some(e) = &s.metrics_error {
         println!("  metrics unavailable: {e}");
     }
@@ -261,4 +272,25 @@ fn print_summary(s: &SummaryJson, out: &Path) {
         );
     }
     println!("  results in {}", out.display());
+}
+
+/// The string's integrity in one line: peak von Mises stress, fatigue, buckling, each with where.
+fn integrity_line(m: &crate::metrics::Metrics) -> String {
+    let fatigue = if m.fatigue_damage_per_h > 0.0 {
+        format!(
+            "fatigue {:.3e}/h at {:.2} m (life {:.3e} h)",
+            m.fatigue_damage_per_h, m.fatigue_worst_at_m, m.fatigue_life_h
+        )
+    } else if m.fatigue_damage_per_h == 0.0 {
+        "fatigue: no damage (every range below the endurance limit)".to_string()
+    } else {
+        "fatigue: not computed".to_string()
+    };
+    format!(
+        "von Mises {:.1} MPa at {:.2} m | {fatigue} | compression {:.1} % of sinusoidal buckling at {:.2} m",
+        m.max_von_mises_pa / 1e6,
+        m.max_von_mises_at_m,
+        100.0 * m.buckling_utilization,
+        m.buckling_at_m
+    )
 }

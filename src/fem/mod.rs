@@ -27,4 +27,4 @@ pub use element::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector};
 pub use inertia::ElementInertia;
 pub use shape::{Interpolation, gauss_legendre_4};
 pub use strain_energy::{ElementStrains, STRAIN_VARS, StrainEnergy, Strains};
-pub use stress::{SectionLoads, SectionStress};
+pub use stress::{AxialStressField, SectionLoads, SectionStrains, SectionStress};

@@ -44,8 +44,9 @@ pub struct SectionLoads {
 /// The midpoint strain operator of an element and the section data the stresses need.
 #[derive(Debug, Clone)]
 pub struct SectionStress {
-    /// g = G d at the element's midpoint, G by its non-zeros (row, column, value): 28 of 96.
-    operator: Vec<(usize, usize, f64)>,
+    /// g = G d at the element's midpoint, G by rows (28 non-zeros of 96, but the dense product
+    /// vectorises and is faster than the sparse one, which is called at every step).
+    operator: [[f64; ELEMENT_DOF]; STRAIN_VARS],
     law: StrainEnergy,
     outer_radius: f64,
     polar_moment: f64,
@@ -67,13 +68,8 @@ impl SectionStress {
         }
         operator.set_row(6, &n.value.row(4));
         operator.set_row(7, &n.value.row(5));
-        let nonzeros = (0..STRAIN_VARS)
-            .flat_map(|i| (0..ELEMENT_DOF).map(move |j| (i, j)))
-            .filter(|&(i, j)| operator[(i, j)] != 0.0)
-            .map(|(i, j)| (i, j, operator[(i, j)]))
-            .collect();
         SectionStress {
-            operator: nonzeros,
+            operator: std::array::from_fn(|i| std::array::from_fn(|j| operator[(i, j)])),
             law: StrainEnergy::of(string),
             outer_radius: string.pipe.outer_radius,
             polar_moment: section.polar_moment,
@@ -84,14 +80,58 @@ impl SectionStress {
         }
     }
 
+    /// The generalised strains at the midpoint of an element whose DOFs (node 1 then node 2,
+    /// each (u, v, w, θx, θy, θz), elastic part) are `d` (12 values).
+    #[inline]
+    pub fn strains(&self, d: &[f64]) -> SectionStrains {
+        let d: &[f64; ELEMENT_DOF] = d.try_into().expect("an element has 12 DOFs");
+        SectionStrains(std::array::from_fn(|i| {
+            let row = &self.operator[i];
+            (0..ELEMENT_DOF).map(|j| row[j] * d[j]).sum()
+        }))
+    }
+
     /// The loads at the midpoint of an element whose DOFs (node 1 then node 2, each
     /// (u, v, w, θx, θy, θz), elastic part) are `d`.
     pub fn loads(&self, d: &[f64]) -> SectionLoads {
-        let mut g = [0.0; STRAIN_VARS];
-        for &(i, j, v) in &self.operator {
-            g[i] += v * d[j];
+        self.loads_of(&self.strains(d))
+    }
+
+    /// Axial stress σ = E E_xx, Pa (tension > 0), at the outer fibre that is at angle ψ in the
+    /// section's fixed frame, (Y, Z) = R(cos ψ, sin ψ), given as `(cos ψ, sin ψ)`. A material
+    /// fibre at angle φ₀ of the unspun section is at ψ = φ₀ + θx, θx the section's absolute
+    /// rotation (MODEL.md §2: Y = y cos θx − z sin θx, Z = y sin θx + z cos θx).
+    #[inline]
+    pub fn axial_stress(&self, strains: &SectionStrains, (c, s): (f64, f64)) -> f64 {
+        let [du, dv, dw, dtx, dty, dtz, ty, tz] = strains.0;
+        let (y, z) = (self.outer_radius * c, self.outer_radius * s);
+        let a = du + y * (dtx * ty - dtz) + z * (dty + dtx * tz);
+        let exx = a + 0.5 * (a * a + (dv - z * dtx).powi(2) + (dw + y * dtx).powi(2));
+        self.law.youngs_modulus * exx
+    }
+
+    /// The axial stress round the outer surface as a function of the fibre's angle
+    /// ([`AxialStressField`]), for many fibres of one section at a few flops each.
+    #[inline]
+    pub fn axial_field(&self, strains: &SectionStrains) -> AxialStressField {
+        let [du, dv, dw, dtx, dty, dtz, ty, tz] = strains.0;
+        let r = self.outer_radius;
+        let e = self.law.youngs_modulus;
+        let (alpha, beta) = (r * (dtx * ty - dtz), r * (dty + dtx * tz));
+        let rt = r * dtx;
+        AxialStressField {
+            even: e * (du + 0.5 * (du * du + dv * dv + dw * dw + rt * rt)),
+            half_e: 0.5 * e,
+            alpha,
+            beta,
+            gamma: e * (alpha * (1.0 + du) + rt * dw),
+            delta: e * (beta * (1.0 + du) - rt * dv),
         }
-        let (du, dv, dw, dtx, dty, dtz, ty, tz) = (g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7]);
+    }
+
+    /// The loads of a section whose midpoint strains are `strains` ([`Self::strains`]).
+    pub fn loads_of(&self, strains: &SectionStrains) -> SectionLoads {
+        let [du, dv, dw, dtx, dty, dtz, ty, tz] = strains.0;
         let l = &self.law;
         // A fibre by (cos φ, sin φ): no trigonometry in the time-step loop.
         let stress_at = |(c, s): (f64, f64)| {
@@ -132,6 +172,43 @@ impl SectionStress {
     }
 }
 
+/// The axial stress of the outer fibres of one section (MODEL.md §2, §10), split into its parts
+/// even and odd in the fibre's position: with (Y, Z) = R(cos ψ, sin ψ), L = α cos ψ + β sin ψ
+/// (α = R(θx′θy − θz′), β = R(θy′ + θx′θz)) the bending part of a = u′ + L, and
+/// (v′ − Zθx′)² + (w′ + Yθx′)² = v′² + w′² + (Rθx′)² + 2Rθx′(w′ cos ψ − v′ sin ψ),
+///
+///   σ(ψ) = E [u′ + ½(u′² + v′² + w′² + (Rθx′)²) + ½L²] + E [(1 + u′)L + Rθx′(w′ cos ψ − v′ sin ψ)],
+///
+/// the second bracket odd (it changes sign at ψ + π), so a pair of opposite fibres costs one
+/// evaluation. Equal to [`SectionStress::axial_stress`] to round-off.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxialStressField {
+    /// E (u′ + ½(u′² + v′² + w′² + (Rθx′)²)), Pa.
+    even: f64,
+    half_e: f64,
+    alpha: f64,
+    beta: f64,
+    /// E (α(1 + u′) + Rθx′ w′) and E (β(1 + u′) − Rθx′ v′): the odd part γ cos ψ + δ sin ψ, Pa.
+    gamma: f64,
+    delta: f64,
+}
+
+impl AxialStressField {
+    /// σ at the fibres at ψ and ψ + π, given (cos ψ, sin ψ), Pa.
+    #[inline]
+    pub fn pair(&self, (c, s): (f64, f64)) -> (f64, f64) {
+        let l = self.alpha * c + self.beta * s;
+        let even = self.even + self.half_e * l * l;
+        let odd = self.gamma * c + self.delta * s;
+        (even + odd, even - odd)
+    }
+}
+
+/// The generalised strains g = (u′, v′, w′, θx′, θy′, θz′, θy, θz) at an element's midpoint
+/// (elastic part; the rigid motion carries no strain).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SectionStrains(pub [f64; STRAIN_VARS]);
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -166,6 +243,28 @@ mod tests {
             "{}",
             k.von_mises
         );
+    }
+
+    #[test]
+    fn the_stress_field_of_opposite_fibres_equals_the_fibre_stress() {
+        let s = seed_string();
+        let st = SectionStress::new(&s, 0.4);
+        // Every strain at once, of realistic sizes (1e-3) and beyond (0.05).
+        for scale in [1e-3, 0.05] {
+            let d: [f64; 12] =
+                std::array::from_fn(|k| scale * ((k as f64 * 1.7).sin() + 0.3 * k as f64 / 12.0));
+            let strains = st.strains(&d);
+            let field = st.axial_field(&strains);
+            for k in 0..16 {
+                let psi = 0.37 + k as f64 * std::f64::consts::TAU / 16.0;
+                let (plus, minus) = field.pair((psi.cos(), psi.sin()));
+                let direct = st.axial_stress(&strains, (psi.cos(), psi.sin()));
+                let opposite = st.axial_stress(&strains, (-psi.cos(), -psi.sin()));
+                let tol = 1e-12 * s.pipe.youngs_modulus * scale;
+                assert!((plus - direct).abs() < tol, "{plus} {direct}");
+                assert!((minus - opposite).abs() < tol, "{minus} {opposite}");
+            }
+        }
     }
 
     #[test]

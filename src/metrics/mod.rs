@@ -231,6 +231,31 @@ pub struct Metrics {
     pub max_compression_n: f64,
     /// Largest torque magnitude anywhere along the string over the window, N·m.
     pub max_torque_nm: f64,
+    /// Miner damage per hour of drilling of the worst section (its worst material fibre),
+    /// extrapolated from the analysis window: D_window · 3600 s / T_w, 1/h. Rainflow cycles of
+    /// the axial stress of material fibres of the spinning sections against the pipe's S-N
+    /// curve ([`crate::sim::SectionFatigue`], [`crate::fatigue`]); NaN without an envelope.
+    pub fatigue_damage_per_h: f64,
+    /// Fatigue life 1 / `fatigue_damage_per_h`, h of drilling at this operating point; +∞ (null
+    /// in JSON) when no section accumulates damage. Larger is safer, so risk terms and chance
+    /// constraints use `fatigue_damage_per_h`.
+    pub fatigue_life_h: f64,
+    /// Where the worst section is (element midpoint x from the top drive), m; NaN when no section
+    /// accumulates damage.
+    pub fatigue_worst_at_m: f64,
+    /// Largest compression anywhere along the string over the window, divided by the sinusoidal
+    /// buckling load of the pipe in its hole (Dawson & Paslay 1984, [`crate::model::BucklingLoads`]):
+    /// ≥ 1 the pipe buckles sinusoidally, dimensionless; NaN without an envelope.
+    pub buckling_utilization: f64,
+    /// The same compression over the helical buckling load (Chen, Lin & Cheatham 1990): ≥ 1 the
+    /// pipe buckles into a helix, dimensionless.
+    pub helical_buckling_utilization: f64,
+    /// 1 − `buckling_utilization`: 1 without compression, 0 at the onset of sinusoidal buckling,
+    /// negative beyond, dimensionless. Larger is safer, so risk terms and chance constraints use
+    /// `buckling_utilization`.
+    pub buckling_margin: f64,
+    /// Where the compression is closest to buckling (element midpoint x), m.
+    pub buckling_at_m: f64,
 }
 
 impl Metrics {
@@ -249,12 +274,28 @@ impl Metrics {
         self.von_mises_utilization = yield_strength.map_or(f64::NAN, |y| peak / y);
         self.max_compression_n = max(&envelope.max_compression_n);
         self.max_torque_nm = max(&envelope.max_torque_nm);
+        let (rate, worst) = envelope.fatigue_peak().unwrap_or((f64::NAN, f64::NAN));
+        self.fatigue_damage_per_h = rate;
+        self.fatigue_life_h = 1.0 / rate; // +∞ for no damage, NaN for none tracked
+        self.fatigue_worst_at_m = if rate > 0.0 { worst } else { f64::NAN };
+        let (usage, at) = envelope.buckling_peak().unwrap_or((f64::NAN, f64::NAN));
+        self.buckling_utilization = usage;
+        let compression = self.max_compression_n.max(0.0);
+        self.helical_buckling_utilization = envelope.buckling.map_or(f64::NAN, |b| {
+            if compression > 0.0 {
+                compression / b.helical
+            } else {
+                0.0
+            }
+        });
+        self.buckling_margin = 1.0 - usage;
+        self.buckling_at_m = at;
         self
     }
 
     /// Every metric with its `summary.json` key, values as they are (±∞ and NaN included: a
     /// JSON round trip would turn them into null).
-    pub fn named_values(&self) -> [(&'static str, f64); 24] {
+    pub fn named_values(&self) -> [(&'static str, f64); 31] {
         [
             ("mean_rop_m_s", self.mean_rop_m_s),
             ("mean_rop_m_per_h", self.mean_rop_m_per_h),
@@ -283,6 +324,16 @@ impl Metrics {
             ("von_mises_utilization", self.von_mises_utilization),
             ("max_compression_n", self.max_compression_n),
             ("max_torque_nm", self.max_torque_nm),
+            ("fatigue_damage_per_h", self.fatigue_damage_per_h),
+            ("fatigue_life_h", self.fatigue_life_h),
+            ("fatigue_worst_at_m", self.fatigue_worst_at_m),
+            ("buckling_utilization", self.buckling_utilization),
+            (
+                "helical_buckling_utilization",
+                self.helical_buckling_utilization,
+            ),
+            ("buckling_margin", self.buckling_margin),
+            ("buckling_at_m", self.buckling_at_m),
         ]
     }
 }
@@ -398,6 +449,13 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
         von_mises_utilization: f64::NAN,
         max_compression_n: f64::NAN,
         max_torque_nm: f64::NAN,
+        fatigue_damage_per_h: f64::NAN,
+        fatigue_life_h: f64::NAN,
+        fatigue_worst_at_m: f64::NAN,
+        buckling_utilization: f64::NAN,
+        helical_buckling_utilization: f64::NAN,
+        buckling_margin: f64::NAN,
+        buckling_at_m: f64::NAN,
     })
 }
 

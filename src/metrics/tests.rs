@@ -385,9 +385,23 @@ fn serializes_with_exactly_the_documented_keys() {
     envelope.max_von_mises_pa = vec![1e8, 3e8];
     envelope.max_compression_n = vec![5e4, 4e4];
     envelope.max_torque_nm = vec![2e3, 3e3];
+    envelope.fatigue_damage_per_h = vec![2e-4, 1e-4];
+    envelope.buckling = Some(crate::model::BucklingLoads {
+        weight_per_length: 500.0,
+        clearance: 0.01,
+        sinusoidal: 1e5,
+        helical: 1e5 * std::f64::consts::SQRT_2,
+    });
+    envelope.buckling_utilization = vec![0.5, 0.4];
     let m = compute(&steady(&UNEVEN), &config(0.0))
         .unwrap()
         .with_stresses(&envelope, Some(930e6));
+    // Fatigue and buckling: the worst section and where (element midpoints 0.5 and 1.5 m).
+    assert_eq!((m.fatigue_damage_per_h, m.fatigue_worst_at_m), (2e-4, 0.5));
+    assert!((m.fatigue_life_h - 5000.0).abs() < 1e-9);
+    assert_eq!((m.buckling_utilization, m.buckling_at_m), (0.5, 0.5));
+    assert!((m.buckling_margin - 0.5).abs() < 1e-15);
+    assert!((m.helical_buckling_utilization - 0.5 / std::f64::consts::SQRT_2).abs() < 1e-15);
     assert_eq!(
         (
             m.max_von_mises_pa,
@@ -412,6 +426,27 @@ fn serializes_with_exactly_the_documented_keys() {
     expected.sort_unstable();
     assert_eq!(keys, expected);
     assert!(json.as_object().unwrap().values().all(|v| v.is_f64()));
+    // Every metric has a dimension, so thresholds on it can be written with units.
+    for key in crate::problem::study::METRICS {
+        assert!(crate::problem::study::metric_unit(key).is_some(), "{key}");
+    }
+}
+
+/// No damage anywhere: an infinite life (null in JSON) and no worst section.
+#[test]
+fn zero_fatigue_damage_is_an_infinite_life_without_a_worst_section() {
+    let mut envelope = crate::sim::StressEnvelope::new(2, 1.0, 0.0);
+    envelope.fatigue_damage_per_h = vec![0.0, 0.0];
+    let m = compute(&steady(&UNEVEN), &config(0.0))
+        .unwrap()
+        .with_stresses(&envelope, None);
+    assert_eq!(m.fatigue_damage_per_h, 0.0);
+    assert_eq!(m.fatigue_life_h, f64::INFINITY);
+    assert!(m.fatigue_worst_at_m.is_nan());
+    assert!(
+        m.buckling_utilization.is_nan(),
+        "no buckling loads: undefined"
+    );
 }
 
 // ---- refusals ----

@@ -4,6 +4,7 @@
 
 mod basis;
 pub mod bit;
+mod buckling;
 pub mod law;
 pub mod parameters;
 mod params;
@@ -12,6 +13,7 @@ pub mod wall;
 
 pub use basis::{BasisSpec, FamilySize};
 pub use bit::{BitLoad, BitRock, BitRockLaw};
+pub use buckling::BucklingLoads;
 pub use law::{Chosen, Law, LawEntry};
 pub use parameters::{Enters, ParameterKey, ParameterSpec};
 pub use params::{API_GRADES, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start};

@@ -20,6 +20,9 @@ pub struct Pipe {
     pub torsion_factor: f64,
     /// Minimum yield strength, Pa (the von Mises safety factor's reference); None: not given.
     pub yield_strength: Option<f64>,
+    /// S-N curve, endurance limit and stress concentration of the fatigue damage
+    /// (`[model.pipe.fatigue]`; default DNV-RP-C203 (2016) B1 in air, see [`crate::fatigue`]).
+    pub fatigue: crate::fatigue::SnCurve,
 }
 
 /// The API drill-pipe grades (API Spec 5DP, Table C.3: minimum yield strength in ksi, here in Pa

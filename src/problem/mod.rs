@@ -10,7 +10,9 @@ pub mod limits;
 pub mod schema;
 pub mod study;
 mod validate;
+mod validate_fatigue;
 mod validate_study;
+mod validate_threshold;
 
 pub use crate::units::{self, Dimension, UnitError};
 pub use error::{KeyError, ProblemError};

@@ -84,6 +84,23 @@ pub struct PipeSection {
     pub torsion_factor: Option<RawQuantity>,
     /// Minimum yield strength: a pressure (`"931 MPa"`) or an API 5DP grade (`"S-135"`).
     pub yield_strength: Option<RawQuantity>,
+    /// `[model.pipe.fatigue]`: the S-N curve of the fatigue damage.
+    pub fatigue: Option<FatigueSection>,
+}
+
+/// `[model.pipe.fatigue]`: a named S-N curve (`sn_curve = "DNV-B1"`) or its parameters
+/// (`log_a1`, `m1` and optionally `log_a2`, `m2`), the endurance limit (a stress range) and a
+/// stress concentration factor.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FatigueSection {
+    pub sn_curve: Option<String>,
+    pub log_a1: Option<RawQuantity>,
+    pub m1: Option<RawQuantity>,
+    pub log_a2: Option<RawQuantity>,
+    pub m2: Option<RawQuantity>,
+    pub endurance_limit: Option<RawQuantity>,
+    pub stress_concentration: Option<RawQuantity>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -52,7 +52,8 @@ pub struct RawRisk {
     pub metric: String,
     pub statistic: Option<String>,
     pub level: Option<f64>,
-    pub threshold: Option<f64>,
+    /// In the metric's unit or with a unit of its dimension (see [`metric_unit`]).
+    pub threshold: Option<RawQuantity>,
     pub weight: f64,
 }
 
@@ -80,7 +81,8 @@ pub struct RawLinear {
 #[serde(deny_unknown_fields)]
 pub struct RawChance {
     pub metric: String,
-    pub threshold: f64,
+    /// In the metric's unit or with a unit of its dimension (see [`metric_unit`]).
+    pub threshold: RawQuantity,
     pub max_probability: f64,
 }
 
@@ -133,7 +135,8 @@ pub struct RiskTerm {
     pub weight: f64,
 }
 
-/// P(metric > threshold) ≤ max_probability.
+/// P(metric > threshold) ≤ max_probability, the threshold in the metric's unit (its key's:
+/// [`metric_unit`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChanceConstraint {
     pub metric: String,
@@ -195,7 +198,7 @@ pub struct Study {
 }
 
 /// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
-pub const METRICS: [&str; 24] = [
+pub const METRICS: [&str; 31] = [
     "mean_rop_m_s",
     "mean_rop_m_per_h",
     "stick_slip_severity",
@@ -220,4 +223,58 @@ pub const METRICS: [&str; 24] = [
     "von_mises_utilization",
     "max_compression_n",
     "max_torque_nm",
+    "fatigue_damage_per_h",
+    "fatigue_life_h",
+    "fatigue_worst_at_m",
+    "buckling_utilization",
+    "helical_buckling_utilization",
+    "buckling_margin",
+    "buckling_at_m",
+];
+
+/// The dimension of a metric's value and the factor from SI to the unit its key names (the value
+/// `summary.json` holds): `(dimension, per_si)` with value = per_si × SI value. 1 for every metric
+/// in SI; `mean_rop_m_per_h` is in m/h, `fatigue_damage_per_h` per hour and `fatigue_life_h` in
+/// hours. Thresholds of risk terms and chance constraints are read with it: `"500 MPa"`,
+/// `"20 kN"` are converted, a bare number is the metric's own value (SI but for those three).
+/// None for a key that is not a metric.
+pub fn metric_unit(key: &str) -> Option<(super::Dimension, f64)> {
+    use super::Dimension::*;
+    const S_PER_H: f64 = 3600.0;
+    Some(match key {
+        "mean_rop_m_s" => (Velocity, 1.0),
+        "mean_rop_m_per_h" => (Velocity, S_PER_H),
+        "stick_slip_severity"
+        | "stick_slip_severity_raw"
+        | "stick_fraction"
+        | "max_bit_speed_ratio"
+        | "bit_bounce_fraction"
+        | "axial_velocity_fluctuation"
+        | "max_radial_over_gap"
+        | "efficiency"
+        | "axial_power_share"
+        | "energy_balance_residual"
+        | "von_mises_safety_factor"
+        | "von_mises_utilization"
+        | "buckling_utilization"
+        | "helical_buckling_utilization"
+        | "buckling_margin" => (Dimensionless, 1.0),
+        "impacts_per_s" => (Rate, 1.0),
+        "peak_wall_force_n" | "mean_wob_n" | "max_compression_n" => (Force, 1.0),
+        "contact_impulse_ns" => (Impulse, 1.0),
+        "mean_tob_nm" | "max_torque_nm" => (Torque, 1.0),
+        "mse_pa" | "max_von_mises_pa" => (Pressure, 1.0),
+        "max_von_mises_at_m" | "fatigue_worst_at_m" | "buckling_at_m" => (Length, 1.0),
+        "fatigue_damage_per_h" => (Rate, S_PER_H),
+        "fatigue_life_h" => (Time, 1.0 / S_PER_H),
+        _ => return None,
+    })
+}
+
+/// Metrics that grow with safety: risk terms and chance constraints penalise large values, so
+/// they are refused there, each with the metric to use instead.
+pub const LARGER_IS_SAFER: [(&str, &str); 3] = [
+    ("von_mises_safety_factor", "von_mises_utilization"),
+    ("fatigue_life_h", "fatigue_damage_per_h"),
+    ("buckling_margin", "buckling_utilization"),
 ];

@@ -538,6 +538,7 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
         }
         Some(raw) => Some(c.value("model.pipe.yield_strength", raw, Pressure)?),
     };
+    let fatigue = super::validate_fatigue::fatigue(c, p.fatigue.as_ref())?;
     Ok(Pipe {
         density,
         youngs_modulus,
@@ -547,6 +548,7 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
         shear_factor,
         torsion_factor,
         yield_strength,
+        fatigue,
     })
 }
 

@@ -5,6 +5,7 @@ use super::ProblemError;
 use super::schema::{ProblemFile, RawQuantity};
 use super::study::*;
 use super::validate::Checker;
+use super::validate_threshold::threshold;
 use crate::model::Drillstring;
 use crate::stats::Distribution;
 use crate::stats::Statistic;
@@ -46,11 +47,26 @@ pub(super) fn study(
                 Some(format!("constraints.chance[{i}].metric"))
             })
     };
-    if let Some(key) = at(&|m| m == "von_mises_safety_factor") {
-        return Err(c.fail(
-            &key,
-            "von_mises_safety_factor is larger when safer, and risk terms and chance constraints penalise large values: use von_mises_utilization (peak stress / yield strength = 1 / safety factor), e.g. a chance constraint with threshold 0.5 for a safety factor of at least 2".into(),
-        ));
+    for (safer, instead) in LARGER_IS_SAFER {
+        if let Some(key) = at(&|m| m == safer) {
+            let hint = match safer {
+                "von_mises_safety_factor" => {
+                    "(peak stress / yield strength = 1 / safety factor), e.g. a chance constraint with threshold 0.5 for a safety factor of at least 2"
+                }
+                "fatigue_life_h" => {
+                    "(Miner damage per hour = 1 / life), e.g. a chance constraint with threshold \"1e-3 1/h\" for a life of at least 1000 h"
+                }
+                _ => {
+                    "(compression / sinusoidal buckling load = 1 − margin), e.g. a chance constraint with threshold 0.5 for a margin of at least 0.5"
+                }
+            };
+            return Err(c.fail(
+                &key,
+                format!(
+                    "{safer} is larger when safer, and risk terms and chance constraints penalise large values: use {instead} {hint}"
+                ),
+            ));
+        }
     }
     if model.pipe.yield_strength.is_none()
         && let Some(key) = at(&|m| m == "von_mises_utilization")
@@ -304,12 +320,17 @@ fn objective(
     for (i, r) in o.risk.iter().enumerate() {
         let key = format!("objective.risk[{i}]");
         let m = metric(c, &format!("{key}.metric"), &r.metric)?;
+        let threshold = r
+            .threshold
+            .as_ref()
+            .map(|t| threshold(c, &format!("{key}.threshold"), &m, t))
+            .transpose()?;
         let s = statistic(
             c,
             &key,
             r.statistic.as_deref().unwrap_or("mean"),
             r.level,
-            r.threshold,
+            threshold,
             &["mean", "std_dev", "cvar", "prob_exceed", "quantile", "max"],
             RISKS,
         )?;
@@ -432,12 +453,7 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
     for (i, ch) in k.chance.iter().enumerate() {
         let key = format!("constraints.chance[{i}]");
         let m = metric(c, &format!("{key}.metric"), &ch.metric)?;
-        if !ch.threshold.is_finite() {
-            return Err(c.fail(
-                &format!("{key}.threshold"),
-                format!("must be finite, got {}", ch.threshold),
-            ));
-        }
+        let threshold = threshold(c, &format!("{key}.threshold"), &m, &ch.threshold)?;
         if !(0.0..1.0).contains(&ch.max_probability) {
             return Err(c.fail(
                 &format!("{key}.max_probability"),
@@ -446,7 +462,7 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
         }
         chance.push(ChanceConstraint {
             metric: m,
-            threshold: ch.threshold,
+            threshold,
             max_probability: ch.max_probability,
         });
     }

@@ -1,5 +1,6 @@
 //! Writing results to disk: atomic file writes ([`write_atomic`], [`write_json_atomic`]), the time
-//! history as CSV ([`timeseries_csv`]), every evaluation of a study as CSV ([`evaluations_csv`])
+//! history as CSV ([`timeseries_csv`]), the stress envelope along the string as CSV and SVG
+//! ([`envelope_csv`], [`plot_stress_envelope`]), every evaluation of a study as CSV ([`evaluations_csv`])
 //! and SVG plots after the seed paper's Figs. 3–5 ([`plot_bit_axial`], [`plot_bit_rotation`], [`plot_probe_radial`], built on [`plot_panels`]).
 //!
 //! Every file is written whole or not at all (temporary file, fsync, rename), so an interrupted
@@ -10,6 +11,7 @@
 mod atomic;
 mod axes;
 mod csv;
+mod envelope;
 mod evaluations_csv;
 mod plots;
 mod study_json;
@@ -22,9 +24,11 @@ mod units;
 pub use atomic::{write_atomic, write_json_atomic};
 pub use axes::{PLOT_BUCKETS, decimate_min_max};
 pub use csv::{probe_column_name, timeseries_csv, write_timeseries_csv};
+pub use envelope::{envelope_csv, plot_stress_envelope, write_envelope_csv};
 pub use evaluations_csv::{evaluations_csv, write_evaluations_csv};
 pub use plots::{
-    Panel, PlotError, plot_bit_axial, plot_bit_rotation, plot_panels, plot_probe_radial,
+    Panel, PlotError, plot_bit_axial, plot_bit_rotation, plot_panels, plot_panels_over,
+    plot_probe_radial,
 };
 pub use study_json::{
     CompareJson, ConstraintsJson, EvaluationJson, LinearJson, MapJson, ObjectiveJson, PointJson,

@@ -239,6 +239,18 @@ pub fn plot_panels(
     t: &[f64],
     panels: &[Panel<'_>],
 ) -> Result<(), PlotError> {
+    plot_panels_over(path, title, t, "t [s]", panels)
+}
+
+/// [`plot_panels`] against any abscissa `x` (e.g. the position along the string), labelled
+/// `x_label` with its unit.
+pub fn plot_panels_over(
+    path: &Path,
+    title: &str,
+    t: &[f64],
+    x_label: &str,
+    panels: &[Panel<'_>],
+) -> Result<(), PlotError> {
     if let Some(p) = panels.iter().find(|p| p.y.len() != t.len()) {
         return Err(PlotError::LengthMismatch {
             path: path.to_owned(),
@@ -247,7 +259,7 @@ pub fn plot_panels(
             t_len: t.len(),
         });
     }
-    let svg = render_svg(title, t, panels).map_err(|message| PlotError::Draw {
+    let svg = render_svg(title, t, x_label, panels).map_err(|message| PlotError::Draw {
         path: path.to_owned(),
         message,
     })?;
@@ -257,13 +269,18 @@ pub fn plot_panels(
     })
 }
 
-fn render_svg(title: &str, t: &[f64], panels: &[Panel<'_>]) -> Result<String, String> {
+fn render_svg(
+    title: &str,
+    t: &[f64],
+    x_label: &str,
+    panels: &[Panel<'_>],
+) -> Result<String, String> {
     let rows = u32::try_from(panels.len().max(1)).unwrap_or(u32::MAX);
     let height = TITLE_HEIGHT.saturating_add(PANEL_HEIGHT.saturating_mul(rows));
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
-        draw_figure(&root, title, t, panels).map_err(|e| e.to_string())?;
+        draw_figure(&root, title, t, x_label, panels).map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(svg)
@@ -275,6 +292,7 @@ fn draw_figure(
     root: &DrawingArea<SVGBackend<'_>, Shift>,
     title: &str,
     t: &[f64],
+    x_label: &str,
     panels: &[Panel<'_>],
 ) -> DrawResult {
     let body = titled_figure(root, title)?;
@@ -282,7 +300,7 @@ fn draw_figure(
         return Ok(());
     }
     for (area, panel) in body.split_evenly((panels.len(), 1)).iter().zip(panels) {
-        draw_panel(area, t, panel)?;
+        draw_panel(area, t, x_label, panel)?;
     }
     Ok(())
 }
@@ -290,6 +308,7 @@ fn draw_figure(
 fn draw_panel(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     t: &[f64],
+    x_label: &str,
     panel: &Panel<'_>,
 ) -> DrawResult {
     let mut points = decimate_min_max(t, panel.y, PLOT_BUCKETS);
@@ -304,7 +323,7 @@ fn draw_panel(
     let mut chart = xy_chart(
         area,
         Some((panel.caption, 20)),
-        ("t [s]", (t_lo, t_hi)),
+        (x_label, (t_lo, t_hi)),
         (panel.y_label, (y_lo, y_hi)),
         TIME_LAYOUT,
     )?;

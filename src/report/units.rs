@@ -50,6 +50,17 @@ impl<'a> MetricDisplay<'a> {
             "von_mises_utilization" => ("von Mises utilization (peak / yield)", "%", 100.0),
             "max_compression_n" => ("largest compression", "kN", 1e-3),
             "max_torque_nm" => ("largest torque in the string", "kN·m", 1e-3),
+            "fatigue_damage_per_h" => ("fatigue damage rate (Miner, worst section)", "1/h", 1.0),
+            "fatigue_life_h" => ("fatigue life (worst section)", "h", 1.0),
+            "fatigue_worst_at_m" => ("where fatigue damage is largest", "m", 1.0),
+            "buckling_utilization" => ("compression / sinusoidal buckling load", "%", 100.0),
+            "helical_buckling_utilization" => ("compression / helical buckling load", "%", 100.0),
+            "buckling_margin" => (
+                "buckling margin (1 \u{2212} compression / sinusoidal load)",
+                "",
+                1.0,
+            ),
+            "buckling_at_m" => ("where compression is closest to buckling", "m", 1.0),
             other => (other, "", 1.0),
         };
         MetricDisplay { name, unit, scale }
@@ -143,9 +154,22 @@ mod tests {
             "mse_pa",
             "efficiency",
             "axial_power_share",
+            "fatigue_damage_per_h",
+            "fatigue_life_h",
+            "buckling_utilization",
+            "helical_buckling_utilization",
+            "buckling_margin",
         ] {
             assert!(!MetricDisplay::of(key).label().contains('_'), "{key}");
         }
+        // Every metric of summary.json has a human name (no key shown as itself).
+        for key in crate::problem::study::METRICS {
+            assert_ne!(MetricDisplay::of(key).name, key, "{key}");
+        }
+        assert_eq!(
+            MetricDisplay::of("fatigue_life_h").label(),
+            "fatigue life (worst section) [h]"
+        );
         let unknown = MetricDisplay::of("new_metric");
         assert_eq!(
             (unknown.label().as_str(), unknown.scale),

@@ -1,10 +1,18 @@
 //! The stress envelope of a run along the string (issue 14): at every accepted step from
 //! `from` on, the loads and outer-fibre von Mises stress at the midpoint of every element
-//! ([`crate::fem::SectionStress`]), reduced on the fly to their extremes and time means, so its
+//! ([`crate::fem::SectionStress`]), reduced on the fly to their extremes and time means, and the
+//! fatigue damage of the spinning sections ([`super::fatigue`]); at the end, the compression
+//! against the buckling loads of the pipe in its hole ([`crate::model::BucklingLoads`]). Its
 //! memory does not grow with the run's length.
 
+use super::fatigue::{FATIGUE_FIBRES, SectionFatigue};
+use crate::fatigue::SnCurve;
 use crate::fem::{DOF_PER_NODE, SectionStress};
+use crate::model::{BucklingLoads, Drillstring};
 use serde::Serialize;
+
+/// Seconds per hour: damage is reported per hour of drilling.
+const S_PER_H: f64 = 3600.0;
 
 /// Extremes and time means of the section loads, one entry per element (midpoints, top to bit).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
@@ -22,16 +30,33 @@ pub struct StressEnvelope {
     pub max_torque_nm: Vec<f64>,
     /// Largest bending moment, N·m.
     pub max_bending_moment_nm: Vec<f64>,
+    /// Miner damage of the section's worst fibre over the window, per hour of drilling
+    /// (D · 3600 s / `duration_s`), 1/h; NaN without fatigue tracking or before [`Self::finish`].
+    pub fatigue_damage_per_h: Vec<f64>,
+    /// Largest compression over the sinusoidal buckling load (≥ 1: buckled sinusoidally, ≥ √2:
+    /// helically); NaN without buckling loads or before [`Self::finish`].
+    pub buckling_utilization: Vec<f64>,
+    /// The buckling loads of the pipe in its hole, if known.
+    pub buckling: Option<BucklingLoads>,
+    /// The S-N curve of the fatigue damage, if tracked.
+    pub sn_curve: Option<SnCurve>,
+    /// Material fibres followed per section (0 without fatigue tracking).
+    pub fatigue_fibres: usize,
+    /// Rainflow residues that filled their counter (see [`crate::fatigue::Rainflow`]).
+    pub rainflow_overflows: u64,
     /// Time covered by the means, s (0 before the envelope starts).
     pub duration_s: f64,
     /// When the envelope starts (the analysis window's start), s.
     pub from_s: f64,
     #[serde(skip)]
     last_time: Option<f64>,
+    #[serde(skip)]
+    fatigue: Option<SectionFatigue>,
 }
 
 impl StressEnvelope {
-    /// An empty envelope of `elements` elements of length `length`, recording from time `from`.
+    /// An empty envelope of `elements` elements of length `length`, recording from time `from`,
+    /// without fatigue tracking and buckling loads (see [`Self::for_string`]).
     pub fn new(elements: usize, length: f64, from: f64) -> Self {
         let zeros = vec![0.0; elements];
         StressEnvelope {
@@ -42,15 +67,30 @@ impl StressEnvelope {
             max_tension_n: zeros.clone(),
             max_torque_nm: zeros.clone(),
             max_bending_moment_nm: zeros,
+            fatigue_damage_per_h: vec![f64::NAN; elements],
+            buckling_utilization: vec![f64::NAN; elements],
             duration_s: 0.0,
             from_s: from,
-            last_time: None,
+            ..Default::default()
         }
     }
 
-    /// Add the state at time `t` whose elastic full-mesh displacements are `q_full`. The mean is
-    /// weighted by the step that ends at `t` (right Riemann sum on the accepted steps).
-    pub fn record(&mut self, t: f64, q_full: &[f64], stress: &SectionStress) {
+    /// An empty envelope of `string` cut into `elements` elements, recording from time `from`,
+    /// with the fatigue damage on the pipe's S-N curve and its buckling loads.
+    pub fn for_string(string: &Drillstring, elements: usize, from: f64) -> Self {
+        let mut envelope = Self::new(elements, string.length / elements as f64, from);
+        envelope.buckling = Some(BucklingLoads::of(string));
+        envelope.sn_curve = Some(string.pipe.fatigue.clone());
+        envelope.fatigue_fibres = FATIGUE_FIBRES;
+        envelope.fatigue = Some(SectionFatigue::new(elements, string.pipe.fatigue.clone()));
+        envelope
+    }
+
+    /// Add the state at time `t` whose elastic full-mesh displacements are `q_full` and whose
+    /// rigid spin angle is `spin` (Ω t, rad: the section's absolute rotation is the spin plus
+    /// its elastic θx). The mean is weighted by the step that ends at `t` (right Riemann sum on
+    /// the accepted steps).
+    pub fn record(&mut self, t: f64, q_full: &[f64], spin: f64, stress: &SectionStress) {
         if t < self.from_s {
             return;
         }
@@ -59,21 +99,49 @@ impl StressEnvelope {
         self.duration_s += h;
         for e in 0..self.position_m.len() {
             let d = &q_full[DOF_PER_NODE * e..DOF_PER_NODE * (e + 2)];
-            let l = stress.loads(d);
+            let strains = stress.strains(d);
+            let l = stress.loads_of(&strains);
             self.max_von_mises_pa[e] = self.max_von_mises_pa[e].max(l.von_mises);
             self.mean_von_mises_pa[e] += h * l.von_mises;
             self.max_compression_n[e] = self.max_compression_n[e].max(-l.axial_force);
             self.max_tension_n[e] = self.max_tension_n[e].max(l.axial_force);
             self.max_torque_nm[e] = self.max_torque_nm[e].max(l.torque.abs());
             self.max_bending_moment_nm[e] = self.max_bending_moment_nm[e].max(l.bending_moment);
+            if let Some(f) = &mut self.fatigue {
+                // θx at the midpoint: the mean of the nodes' (θx is interpolated linearly).
+                let theta = spin + 0.5 * (d[3] + d[DOF_PER_NODE + 3]);
+                f.record(e, &strains, theta, stress);
+            }
         }
     }
 
-    /// Turn the accumulated sums into means (call once, at the end of the run).
+    /// Turn the accumulated sums into means, close the rainflow residues and compare the
+    /// compression with the buckling loads (call once, at the end of the run).
     pub fn finish(&mut self) {
         if self.duration_s > 0.0 {
             for m in &mut self.mean_von_mises_pa {
                 *m /= self.duration_s;
+            }
+        }
+        if let Some(f) = &mut self.fatigue {
+            f.finish();
+            self.rainflow_overflows = f.overflows();
+            let per_h = if self.duration_s > 0.0 {
+                S_PER_H / self.duration_s
+            } else {
+                f64::NAN
+            };
+            for (e, rate) in self.fatigue_damage_per_h.iter_mut().enumerate() {
+                *rate = f.damage(e) * per_h;
+            }
+        }
+        if let Some(b) = self.buckling {
+            for (u, &c) in self
+                .buckling_utilization
+                .iter_mut()
+                .zip(&self.max_compression_n)
+            {
+                *u = b.utilization(c);
             }
         }
     }
@@ -87,4 +155,28 @@ impl StressEnvelope {
             .max_by(|a, b| a.0.total_cmp(b.0))
             .map(|(&s, &x)| (s, x))
     }
+
+    /// The largest fatigue damage rate along the string and where, (1/h, m), the topmost of
+    /// equals; None without fatigue tracking or before [`Self::finish`].
+    pub fn fatigue_peak(&self) -> Option<(f64, f64)> {
+        largest(&self.fatigue_damage_per_h, &self.position_m)
+    }
+
+    /// The largest buckling utilization along the string and where, (–, m), the topmost of
+    /// equals; None without buckling loads or before [`Self::finish`].
+    pub fn buckling_peak(&self) -> Option<(f64, f64)> {
+        largest(&self.buckling_utilization, &self.position_m)
+    }
+}
+
+/// The largest non-NaN value of `values` and its position (the first of equals).
+fn largest(values: &[f64], positions: &[f64]) -> Option<(f64, f64)> {
+    values
+        .iter()
+        .zip(positions)
+        .filter(|(v, _)| !v.is_nan())
+        .fold(None, |best: Option<(f64, f64)>, (&v, &x)| match best {
+            Some((b, _)) if b >= v => best,
+            _ => Some((v, x)),
+        })
 }

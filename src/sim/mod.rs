@@ -5,6 +5,7 @@
 mod contact;
 mod dynamics;
 mod envelope;
+mod fatigue;
 mod run;
 mod series;
 
@@ -12,6 +13,7 @@ pub use crate::model::BitLoad;
 pub use contact::{NodeContact, wall_contact};
 pub use dynamics::{Dynamics, Effects, Observation};
 pub use envelope::StressEnvelope;
+pub use fatigue::{FATIGUE_FIBRES, SectionFatigue};
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,
     STEPS_PER_PERIOD, SimulationError, SolverStats, preloaded_equilibrium, resolving_step,
@@ -25,4 +27,5 @@ pub use series::{CHANNELS, Channel, Frame, TimeSeries};
 /// step resolving the lowest torsional and axial modes, averaged bit speed, impacts by speed.
 /// 3: strain tangent refreshed after failed attempts only; metric stick_slip_severity_raw.
 /// 4: stress envelope and its metrics (max_von_mises_pa, …); the simulated motion is unchanged.
-pub const SIMULATOR_REVISION: u32 = 4;
+/// 5: fatigue (rainflow, Miner) and buckling metrics in every record; the motion is unchanged.
+pub const SIMULATOR_REVISION: u32 = 5;

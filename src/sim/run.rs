@@ -352,8 +352,9 @@ impl Recorder {
         }
         s.nodes_in_contact.push(obs.nodes_in_contact);
         s.contact_onsets.push(self.onsets);
+        // The rigid spin Ω t: with the elastic θx, the sections' absolute rotation (fatigue).
         self.envelope
-            .record(t, sys.displacement_full(), &self.stress);
+            .record(t, sys.displacement_full(), op.omega * t, &self.stress);
         self.last = Some(obs);
     }
 }
@@ -442,7 +443,11 @@ pub fn simulate(
         onsets: 0,
         last: None,
         gap: model.string.gap(),
-        envelope: StressEnvelope::new(model.elements(), element_length, settings.envelope_from),
+        envelope: StressEnvelope::for_string(
+            &model.string,
+            model.elements(),
+            settings.envelope_from,
+        ),
         stress: SectionStress::new(&model.string, element_length),
     };
     let equilibrium = match initial {

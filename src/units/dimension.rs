@@ -7,8 +7,7 @@
 //!
 //! Oilfield units are accepted beside SI: `psi`, `ksi` (pressure, modulus), `lbf`, `klbf`
 //! (force), `ppg` (mud weight, lbm/US gal) and `sg` (specific gravity, × 1000 kg/m³) for
-//! densities, `in`, `ft` and `ft/h`. No input of a problem file is a torque, so there is no
-//! `ft·lbf`.
+//! densities, `in`, `ft` and `ft/h`; `ft·lbf` for torques (the thresholds of torque metrics).
 
 use std::fmt;
 
@@ -17,6 +16,8 @@ use std::fmt;
 pub const LBF_N: f64 = 4.448_221_615_260_5;
 /// Pound-force per square inch in Pa: [`LBF_N`] over (0.0254 m)² (NIST SP 811, B.8).
 pub const PSI_PA: f64 = 6_894.757_293_168;
+/// Foot-pound-force in N·m: 0.3048 m (exact) times [`LBF_N`] (NIST SP 811, B.8: 1.355818).
+pub const FT_LBF_NM: f64 = 0.3048 * LBF_N;
 /// Pound-mass per US gallon (`ppg`, mud weight) in kg/m³: 0.45359237 kg / 3.785411784 L
 /// (NIST SP 811, B.8: 1.198264 E+02).
 pub const PPG_KG_M3: f64 = 119.826_427;
@@ -54,6 +55,10 @@ pub enum Dimension {
     CubicStiffness,
     /// Mass moment of inertia, SI unit kg·m².
     MomentOfInertia,
+    /// Torque (moment), SI unit N·m.
+    Torque,
+    /// Impulse, SI unit N·s.
+    Impulse,
 }
 
 impl Dimension {
@@ -114,7 +119,12 @@ impl Dimension {
                 ("sg", 1e3),
             ],
             Dimension::Acceleration => &[("m/s2", 1.0), ("m/s^2", 1.0)],
-            Dimension::Rate => &[("1/s", 1.0), ("Hz", 1.0)],
+            Dimension::Rate => &[
+                ("1/s", 1.0),
+                ("Hz", 1.0),
+                ("1/min", 1.0 / 60.0),
+                ("1/h", 1.0 / 3600.0),
+            ],
             Dimension::Frequency => &[("Hz", 1.0), ("kHz", 1e3)],
             Dimension::InverseVelocity => &[("s/m", 1.0)],
             Dimension::Stiffness => &[("N/m", 1.0), ("kN/m", 1e3), ("MN/m", 1e6)],
@@ -126,6 +136,23 @@ impl Dimension {
                 ("kg m2", 1.0),
                 // lbm·ft²: 0.45359237 kg × 0.3048² m² (NIST SP 811, B.8: 4.214011 E−02).
                 ("lbm ft^2", 0.045_359_237 * 0.929_030_4),
+            ],
+            Dimension::Torque => &[
+                ("N·m", 1.0),
+                ("N.m", 1.0),
+                ("Nm", 1.0),
+                ("kN·m", 1e3),
+                ("kN.m", 1e3),
+                ("kNm", 1e3),
+                ("ft·lbf", FT_LBF_NM),
+                ("ft.lbf", FT_LBF_NM),
+            ],
+            Dimension::Impulse => &[
+                ("N·s", 1.0),
+                ("N.s", 1.0),
+                ("Ns", 1.0),
+                ("kN·s", 1e3),
+                ("kN.s", 1e3),
             ],
         }
     }
@@ -293,6 +320,16 @@ mod tests {
             Dimension::Velocity.parse("100 ft/h").unwrap(),
             30.48 / 3600.0,
         );
+        // Torques (thresholds of torque metrics): 1 ft·lbf = 0.3048 m × 1 lbf (NIST SP 811, B.8:
+        // 1.355818 N·m).
+        close(
+            Dimension::Torque.parse("1 ft·lbf").unwrap(),
+            1.3558179483314004,
+        );
+        assert!((Dimension::Torque.parse("1 ft.lbf").unwrap() - 1.355818).abs() < 1e-6);
+        close(Dimension::Torque.parse("2.5 kN·m").unwrap(), 2500.0);
+        close(Dimension::Impulse.parse("3 kN·s").unwrap(), 3000.0);
+        close(Dimension::Rate.parse("7.2 1/h").unwrap(), 0.002);
         // A unit of another dimension is still refused, listing the oilfield units too.
         let err = Dimension::Density.parse("10 psi").unwrap_err().to_string();
         assert!(

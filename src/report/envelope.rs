@@ -1,0 +1,137 @@
+//! The stress envelope of a run along the string ([`StressEnvelope`]): `stress_envelope.csv`, one
+//! row per element midpoint (SI units, the unit at the end of each column name), and
+//! `stress_envelope.svg`, its curves against x in the units a driller reads (MPa, kN, 1/h).
+
+use std::io;
+use std::path::Path;
+
+use crate::model::OperatingPoint;
+use crate::sim::StressEnvelope;
+
+use super::atomic::write_atomic;
+use super::plots::{Panel, PlotError, plot_panels_over};
+use super::units::operating_point_text;
+
+/// The columns of `stress_envelope.csv`: name and values.
+fn columns(e: &StressEnvelope) -> [(&'static str, &[f64]); 9] {
+    [
+        ("x_m", &e.position_m),
+        ("max_von_mises_Pa", &e.max_von_mises_pa),
+        ("mean_von_mises_Pa", &e.mean_von_mises_pa),
+        ("max_compression_N", &e.max_compression_n),
+        ("max_tension_N", &e.max_tension_n),
+        ("max_torque_N_m", &e.max_torque_nm),
+        ("max_bending_moment_N_m", &e.max_bending_moment_nm),
+        ("fatigue_damage_per_h", &e.fatigue_damage_per_h),
+        ("buckling_utilization", &e.buckling_utilization),
+    ]
+}
+
+/// `stress_envelope.csv` as text: a header, then one row per element, top drive to bit. Reals in
+/// their shortest round-trip form (as the time series CSV); NaN (not tracked) as `NaN`.
+pub fn envelope_csv(e: &StressEnvelope) -> String {
+    let cols = columns(e);
+    let mut out = cols.map(|c| c.0).join(",");
+    out.push('\n');
+    for i in 0..e.position_m.len() {
+        for (k, (_, values)) in cols.iter().enumerate() {
+            if k > 0 {
+                out.push(',');
+            }
+            if let Some(&v) = values.get(i) {
+                out.push_str(zmij::Buffer::new().format(v));
+            }
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// Writes [`envelope_csv`] to `path` (atomically).
+pub fn write_envelope_csv(path: &Path, e: &StressEnvelope) -> io::Result<()> {
+    write_atomic(path, envelope_csv(e).as_bytes())
+}
+
+/// `stress_envelope.svg`: the largest and the mean von Mises stress [MPa], the largest
+/// compression [kN] with the sinusoidal buckling load dashed, and the fatigue damage rate [1/h],
+/// against x [m], for a run at `op`.
+pub fn plot_stress_envelope(
+    e: &StressEnvelope,
+    op: &OperatingPoint,
+    path: &Path,
+) -> Result<(), PlotError> {
+    let buckling = e.buckling.map(|b| {
+        (
+            b.sinusoidal * 1e-3,
+            format!(
+                "sinusoidal buckling load {:.1} kN (Dawson & Paslay)",
+                b.sinusoidal * 1e-3
+            ),
+        )
+    });
+    let curve = e.sn_curve.as_ref().map_or("", |c| c.name);
+    let fatigue_caption = format!("Fatigue damage rate of the worst fibre (Miner, {curve})");
+    plot_panels_over(
+        path,
+        &format!("Stresses along the string, {}", operating_point_text(op)),
+        &e.position_m,
+        "x from the top drive [m]",
+        &[
+            Panel {
+                caption: "Largest von Mises stress at the outer fibre",
+                y_label: "max \u{3c3}_vM [MPa]",
+                y: &e.max_von_mises_pa,
+                scale: 1e-6,
+                reference: None,
+            },
+            Panel {
+                caption: "Time mean of the von Mises stress",
+                y_label: "mean \u{3c3}_vM [MPa]",
+                y: &e.mean_von_mises_pa,
+                scale: 1e-6,
+                reference: None,
+            },
+            Panel {
+                caption: "Largest compression",
+                y_label: "compression [kN]",
+                y: &e.max_compression_n,
+                scale: 1e-3,
+                reference: buckling.as_ref().map(|(v, l)| (*v, l.as_str())),
+            },
+            Panel {
+                caption: &fatigue_caption,
+                y_label: "damage [1/h]",
+                y: &e.fatigue_damage_per_h,
+                scale: 1.0,
+                reference: None,
+            },
+        ],
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_csv_has_one_row_per_element_and_reads_back() {
+        let mut e = StressEnvelope::new(3, 2.0, 0.0);
+        e.max_von_mises_pa = vec![1e8, 2.5e8, 3e8];
+        e.fatigue_damage_per_h = vec![0.0, 1.5e-7, 0.0];
+        let csv = envelope_csv(&e);
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(lines.len(), 4);
+        assert!(lines[0].starts_with("x_m,max_von_mises_Pa,"));
+        let row: Vec<f64> = lines[2].split(',').map(|v| v.parse().unwrap()).collect();
+        assert_eq!((row[0], row[1], row[7]), (3.0, 2.5e8, 1.5e-7));
+        assert!(row[8].is_nan(), "no buckling loads: NaN");
+        let dir = tempfile::tempdir().unwrap();
+        let op = OperatingPoint {
+            omega: 6.0,
+            v0: 1e-3,
+        };
+        plot_stress_envelope(&e, &op, &dir.path().join("e.svg")).unwrap();
+        let svg = std::fs::read_to_string(dir.path().join("e.svg")).unwrap();
+        assert!(svg.contains("x from the top drive [m]") && svg.contains("damage [1/h]"));
+    }
+}
