@@ -3,8 +3,8 @@
 
 use drillopt::problem::Problem;
 use drillopt::problem::study::{
-    GridSettings, Method, NelderMeadSettings, OptimizerSettings, ParticleSwarmSettings,
-    TrustRegionSettings,
+    EgoSettings, EgoTrustRegionSettings, GridSettings, Method, NelderMeadSettings,
+    OptimizerSettings, ParticleSwarmSettings, TrustRegionSettings,
 };
 use std::path::Path;
 
@@ -328,4 +328,89 @@ fn optimizer_settings_builders_check_ranges() {
         "grid"
     );
     assert_eq!(OptimizerSettings::default().method(), Method::TrustRegion);
+}
+
+/// `method = "ego"` and `"ego+trust_region"`: their keys with the documented defaults, every
+/// value checked against its range, the file and the key named.
+#[test]
+fn ego_settings_defaults_and_refusals() {
+    assert_eq!(
+        optimizer_of("[optimizer]\nmethod = \"ego\"\n"),
+        OptimizerSettings::Ego(EgoSettings {
+            max_evaluations: 40,
+            initial_design: 10,
+            seed: 0,
+            grid: [9, 9],
+        })
+    );
+    let hybrid = optimizer_of(
+        "[optimizer]\nmethod = \"ego+trust_region\"\nmax_evaluations = 30\nseed = 5\nego_share = 0.5\n",
+    );
+    assert_eq!(
+        hybrid,
+        OptimizerSettings::EgoTrustRegion(EgoTrustRegionSettings {
+            max_evaluations: 30,
+            seed: 5,
+            ego_share: 0.5,
+            ..EgoTrustRegionSettings::default()
+        })
+    );
+    assert_eq!(
+        (hybrid.method().name(), hybrid.budget(), hybrid.start()),
+        ("ego+trust_region", 30, None)
+    );
+    let cases: [(&str, &[&str]); 6] = [
+        (
+            "method = \"ego\"\nstart = [\"60 rpm\", \"5 m/h\"]\n",
+            &[
+                "optimizer.start",
+                "not used by method \"ego\"",
+                "max_evaluations, initial_design, seed, grid",
+            ],
+        ),
+        (
+            "method = \"ego\"\nego_share = 0.5\n",
+            &["optimizer.ego_share", "\"ego\""],
+        ),
+        (
+            "method = \"trust_region\"\ninitial_design = 8\n",
+            &["optimizer.initial_design", "\"trust_region\""],
+        ),
+        (
+            "method = \"ego\"\ninitial_design = 2\n",
+            &["optimizer.initial_design", "[3, 1000], got 2"],
+        ),
+        (
+            "method = \"ego\"\nmax_evaluations = 10\n",
+            &[
+                "optimizer.initial_design",
+                "below EGO's evaluations (10)",
+                "got 10",
+            ],
+        ),
+        (
+            "method = \"ego+trust_region\"\nego_share = 1.0\n",
+            &["optimizer.ego_share", "(0, 1), got 1"],
+        ),
+    ];
+    for (section, parts) in cases {
+        let msg = error(&format!("[optimizer]\n{section}"));
+        assert_names(&msg, &["study.toml"]);
+        assert_names(&msg, parts);
+    }
+    // EGO's share ⌊0.3 · 30⌋ = 9 is below the default initial design of 10.
+    assert_names(
+        &error(
+            "[optimizer]\nmethod = \"ego+trust_region\"\nmax_evaluations = 30\nego_share = 0.3\n",
+        ),
+        &["optimizer.initial_design", "below EGO's evaluations (9)"],
+    );
+    assert_eq!(
+        EgoTrustRegionSettings::builder()
+            .min_radius(0.2)
+            .build()
+            .unwrap_err()
+            .key,
+        "min_radius"
+    );
 }

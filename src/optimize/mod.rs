@@ -14,8 +14,11 @@
 //! Methods: [`minimize_trust_region`] (the main one: model-based trust region, an argmin
 //! `Solver`, sub-problems solved by Clarabel), [`minimize_nelder_mead`] (argmin's Nelder–Mead
 //! on a projected penalty, with a simplex-size test and restarts), [`minimize_particle_swarm`]
-//! (argmin's seeded particle swarm on the same penalty) and [`grid_search`] (exhaustive).
+//! (argmin's seeded particle swarm on the same penalty), [`grid_search`] (exhaustive),
+//! [`minimize_ego`] (efficient global optimisation on egobox's Gaussian processes) and
+//! [`minimize_ego_trust_region`] (EGO, then the trust region from its best point).
 
+mod ego;
 mod error;
 mod evaluation;
 mod feasible;
@@ -29,6 +32,9 @@ pub mod qp;
 mod result;
 mod trust_region;
 
+pub use ego::{
+    EgoOptions, EgoTrustRegionOptions, LINEAR_MARGIN, minimize_ego, minimize_ego_trust_region,
+};
 pub use error::OptimizeError;
 pub use evaluation::{BlackBox, Evaluation};
 pub use feasible::{FEASIBILITY_TOL, FeasibleSet};
@@ -40,4 +46,5 @@ pub use penalized::FAILURE_COST;
 pub use result::{OptimizeResult, Stop};
 pub use trust_region::{
     BlackBoxProblem, TrustRegion, TrustRegionOptions, TrustRegionState, minimize_trust_region,
+    minimize_trust_region_after,
 };

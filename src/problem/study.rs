@@ -96,6 +96,8 @@ pub struct OptimizerSection {
     pub initial_radius: Option<f64>,
     pub min_radius: Option<f64>,
     pub seed: Option<i64>,
+    pub initial_design: Option<i64>,
+    pub ego_share: Option<f64>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -168,7 +170,8 @@ pub struct Constraints {
 // The [optimizer] section: one settings struct (and builder) per method.
 mod optimizer;
 pub use optimizer::{
-    GRID_POINTS, GridSettings, GridSettingsBuilder, LocalSearchSettings,
+    EgoSettings, EgoSettingsBuilder, EgoTrustRegionSettings, EgoTrustRegionSettingsBuilder,
+    GRID_POINTS, GridSettings, GridSettingsBuilder, INITIAL_DESIGN, LocalSearchSettings,
     LocalSearchSettingsBuilder, MAX_EVALUATIONS, Method, NelderMeadSettings, OptimizerSettings,
     ParticleSwarmSettings, ParticleSwarmSettingsBuilder, SettingsError, TrustRegionSettings,
 };

@@ -489,6 +489,8 @@ fn refuse_unused_keys(
         initial_radius,
         min_radius,
         seed,
+        initial_design,
+        ego_share,
     } = o;
     let given = [
         ("max_evaluations", max_evaluations.is_some()),
@@ -497,6 +499,8 @@ fn refuse_unused_keys(
         ("initial_radius", initial_radius.is_some()),
         ("min_radius", min_radius.is_some()),
         ("seed", seed.is_some()),
+        ("initial_design", initial_design.is_some()),
+        ("ego_share", ego_share.is_some()),
     ];
     match given
         .iter()
@@ -528,11 +532,13 @@ fn optimizer(
         "nelder_mead" => Method::NelderMead,
         "particle_swarm" => Method::ParticleSwarm,
         "grid" => Method::Grid,
+        "ego" => Method::Ego,
+        "ego+trust_region" => Method::EgoTrustRegion,
         other => {
             return Err(c.fail(
                 "optimizer.method",
                 format!(
-                    "must be one of \"trust_region\", \"nelder_mead\", \"particle_swarm\", \"grid\", got {other:?}"
+                    "must be one of \"trust_region\", \"nelder_mead\", \"particle_swarm\", \"grid\", \"ego\", \"ego+trust_region\", got {other:?}"
                 ),
             ));
         }
@@ -611,6 +617,18 @@ fn optimizer(
     let initial_radius = fraction("optimizer.initial_radius", o.initial_radius)?;
     let min_radius = fraction("optimizer.min_radius", o.min_radius)?;
     let seed = seed(c, "optimizer.seed", o.seed, 0)?;
+    let initial_design = match o.initial_design {
+        None => None,
+        Some(n) if usize::try_from(n).is_ok_and(|n| INITIAL_DESIGN.contains(&n)) => {
+            Some(n as usize)
+        }
+        Some(n) => {
+            return Err(c.fail(
+                "optimizer.initial_design",
+                format!("must be an integer in [3, 1000], got {n}"),
+            ));
+        }
+    };
     // Defaults, min_radius < initial_radius and the ranges again: the method's builder.
     let settings = match method {
         Method::TrustRegion | Method::NelderMead => {
@@ -642,6 +660,29 @@ fn optimizer(
             .grid(grid.unwrap_or(GridSettings::default().grid))
             .build()
             .map(OptimizerSettings::Grid),
+        Method::Ego => {
+            let d = EgoSettings::default();
+            EgoSettings::builder()
+                .max_evaluations(max_evaluations.unwrap_or(d.max_evaluations))
+                .initial_design(initial_design.unwrap_or(d.initial_design))
+                .seed(seed)
+                .grid(grid.unwrap_or(d.grid))
+                .build()
+                .map(OptimizerSettings::Ego)
+        }
+        Method::EgoTrustRegion => {
+            let d = EgoTrustRegionSettings::default();
+            EgoTrustRegionSettings::builder()
+                .max_evaluations(max_evaluations.unwrap_or(d.max_evaluations))
+                .initial_design(initial_design.unwrap_or(d.initial_design))
+                .seed(seed)
+                .ego_share(o.ego_share.unwrap_or(d.ego_share))
+                .initial_radius(initial_radius.unwrap_or(d.initial_radius))
+                .min_radius(min_radius.unwrap_or(d.min_radius))
+                .grid(grid.unwrap_or(d.grid))
+                .build()
+                .map(OptimizerSettings::EgoTrustRegion)
+        }
     };
     settings.map_err(|e| c.fail(&format!("optimizer.{}", e.key), e.message))
 }

@@ -11,8 +11,9 @@ pub use scaling::Scaling;
 
 use crate::model::OperatingPoint;
 use crate::optimize::{
-    BlackBox, Evaluation, IterateCallback, NelderMeadOptions, OptimizeError, SwarmOptions,
-    TrustRegionOptions, grid_search, minimize_nelder_mead, minimize_particle_swarm,
+    BlackBox, EgoOptions, EgoTrustRegionOptions, Evaluation, IterateCallback, NelderMeadOptions,
+    OptimizeError, SwarmOptions, TrustRegionOptions, grid_search, minimize_ego,
+    minimize_ego_trust_region, minimize_nelder_mead, minimize_particle_swarm,
     minimize_trust_region,
 };
 use crate::problem::Problem;
@@ -291,6 +292,33 @@ pub fn solve(
                 ..SwarmOptions::default()
             };
             Some(minimize_particle_swarm(&bb, &set, &opts, on_iterate)?)
+        }
+        OptimizerSettings::Ego(s) => {
+            let opts = EgoOptions {
+                initial_design: s.initial_design,
+                max_evaluations: s.max_evaluations,
+                seed: s.seed,
+                ..EgoOptions::default()
+            };
+            Some(minimize_ego(&bb, &set, &opts, on_iterate)?)
+        }
+        OptimizerSettings::EgoTrustRegion(s) => {
+            let opts = EgoTrustRegionOptions {
+                ego: EgoOptions {
+                    initial_design: s.initial_design,
+                    max_evaluations: s.ego_evaluations(),
+                    seed: s.seed,
+                    ..EgoOptions::default()
+                },
+                trust_region: TrustRegionOptions {
+                    initial_radius: s.initial_radius,
+                    min_radius: s.min_radius,
+                    max_radius: 0.5_f64.max(s.initial_radius),
+                    max_evaluations: s.max_evaluations,
+                    ..TrustRegionOptions::default()
+                },
+            };
+            Some(minimize_ego_trust_region(&bb, &set, &opts, on_iterate)?)
         }
     };
     let evaluations = bb.log.into_inner().unwrap_or_else(|e| e.into_inner());

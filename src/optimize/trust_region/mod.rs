@@ -217,7 +217,19 @@ impl TrustRegion {
         })
     }
 
-    /// Every evaluation so far, in order.
+    /// Starts from earlier evaluations of the same black box (e.g. a global search's): they
+    /// enter the models and the choice of the centre as if evaluated here, are never evaluated
+    /// again, and do not count against `max_evaluations`.
+    pub fn with_history(mut self, prior: Vec<(Vec<f64>, Evaluation)>) -> Self {
+        let m = self.m;
+        self.history = prior
+            .into_iter()
+            .map(|(x, e)| (x, e.sanitized(m)))
+            .collect();
+        self
+    }
+
+    /// Every evaluation so far, in order (after the earlier ones of [`TrustRegion::with_history`]).
     pub fn history(&self) -> &[(Vec<f64>, Evaluation)] {
         &self.history
     }
@@ -354,8 +366,14 @@ where
         state: TrustRegionState,
     ) -> Result<(TrustRegionState, Option<KV>), Error> {
         let x0 = self.x0.clone();
-        let design = self.design(&x0, self.radius);
-        self.evaluate_many(problem, design)?;
+        let design: Vec<Vec<f64>> = self
+            .design(&x0, self.radius)
+            .into_iter()
+            .filter(|p| self.duplicate(p).is_none())
+            .collect();
+        if !design.is_empty() {
+            self.evaluate_many(problem, design)?;
+        }
         self.centre = self.best_by_merit();
         self.stop = None;
         Ok((self.with_centre(state), Some(self.kv(f64::NAN))))
@@ -407,8 +425,23 @@ pub fn minimize_trust_region<B: BlackBox + ?Sized>(
     opts: &TrustRegionOptions,
     callback: Option<IterateCallback>,
 ) -> Result<OptimizeResult, OptimizeError> {
+    minimize_trust_region_after(bb, set, x0, opts, Vec::new(), callback)
+}
+
+/// [`minimize_trust_region`] after earlier evaluations `prior` of the same black box (see
+/// [`TrustRegion::with_history`]); the result's `history` and `evaluations` are this run's only.
+pub fn minimize_trust_region_after<B: BlackBox + ?Sized>(
+    bb: &B,
+    set: &FeasibleSet,
+    x0: &[f64],
+    opts: &TrustRegionOptions,
+    prior: Vec<(Vec<f64>, Evaluation)>,
+    callback: Option<IterateCallback>,
+) -> Result<OptimizeResult, OptimizeError> {
     OptimizeError::check_dim(bb.dim(), set.dim())?;
-    let solver = TrustRegion::new(set.clone(), x0, bb.n_constraints(), opts.clone())?;
+    let n_prior = prior.len();
+    let solver =
+        TrustRegion::new(set.clone(), x0, bb.n_constraints(), opts.clone())?.with_history(prior);
     let log: PathLog = Arc::new(Mutex::new(Vec::new()));
     let observer = PathObserver::new(Arc::clone(&log), callback);
     let res = Executor::new(BlackBoxProblem::new(bb), solver)
@@ -436,7 +469,7 @@ pub fn minimize_trust_region<B: BlackBox + ?Sized>(
         x,
         evaluation,
         evaluations: solver.evaluations(),
-        history: solver.history().to_vec(),
+        history: solver.history()[n_prior..].to_vec(),
         path: take_path(&log),
         termination,
         stop,

@@ -12,6 +12,8 @@ pub enum Method {
     NelderMead,
     ParticleSwarm,
     Grid,
+    Ego,
+    EgoTrustRegion,
 }
 
 impl Method {
@@ -21,6 +23,8 @@ impl Method {
             Method::NelderMead => "nelder_mead",
             Method::ParticleSwarm => "particle_swarm",
             Method::Grid => "grid",
+            Method::Ego => "ego",
+            Method::EgoTrustRegion => "ego+trust_region",
         }
     }
 
@@ -37,12 +41,24 @@ impl Method {
             ],
             Method::ParticleSwarm => &["max_evaluations", "min_radius", "seed", "grid"],
             Method::Grid => &["grid"],
+            Method::Ego => &["max_evaluations", "initial_design", "seed", "grid"],
+            Method::EgoTrustRegion => &[
+                "max_evaluations",
+                "initial_design",
+                "seed",
+                "ego_share",
+                "initial_radius",
+                "min_radius",
+                "grid",
+            ],
         }
     }
 }
 
 /// Legal range of `max_evaluations` (design points).
 pub const MAX_EVALUATIONS: std::ops::RangeInclusive<usize> = 3..=100_000;
+/// Legal range of `initial_design` (points of EGO's initial design).
+pub const INITIAL_DESIGN: std::ops::RangeInclusive<usize> = 3..=1000;
 /// Legal range of the points per axis of `grid`.
 pub const GRID_POINTS: std::ops::RangeInclusive<usize> = 2..=200;
 
@@ -211,6 +227,119 @@ impl GridSettings {
     }
 }
 
+fn check_initial_design(initial_design: usize, ego_budget: usize) -> Result<(), SettingsError> {
+    if !INITIAL_DESIGN.contains(&initial_design) {
+        return Err(SettingsError {
+            key: "initial_design",
+            message: format!("must be an integer in [3, 1000], got {initial_design}"),
+        });
+    }
+    if initial_design >= ego_budget {
+        return Err(SettingsError {
+            key: "initial_design",
+            message: format!(
+                "must be below EGO's evaluations ({ego_budget}), so that EGO adds at least one point, got {initial_design}"
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// `method = "ego"` (`optimize::minimize_ego`): efficient global optimisation (Gaussian-process
+/// surrogates of the score and of each chance constraint, expected improvement) on egobox. The
+/// initial design is a maximin Latin hypercube inside the linear constraints; no start point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EgoSettings {
+    /// Budget of design points, the initial design included. Default 40; [3, 100000], above
+    /// `initial_design`.
+    pub max_evaluations: usize,
+    /// Points of the initial Latin-hypercube design. Default 10; [3, 1000], below
+    /// `max_evaluations`.
+    pub initial_design: usize,
+    /// Seed of the initial design and of egobox's generator: the run is reproducible from it.
+    /// Default 0.
+    pub seed: u64,
+    /// `drillopt map`'s default grid (n_Ω, n_V0). Default [9, 9]; each in [2, 200].
+    pub grid: [usize; 2],
+}
+
+impl Default for EgoSettings {
+    fn default() -> Self {
+        EgoSettings {
+            max_evaluations: 40,
+            initial_design: 10,
+            seed: 0,
+            grid: [9, 9],
+        }
+    }
+}
+
+impl EgoSettings {
+    fn validate(&self) -> Result<(), SettingsError> {
+        check_budget(self.max_evaluations)?;
+        check_grid(self.grid)?;
+        check_initial_design(self.initial_design, self.max_evaluations)
+    }
+}
+
+/// `method = "ego+trust_region"` (`optimize::minimize_ego_trust_region`): EGO on
+/// `⌊ego_share · max_evaluations⌋` points, then the trust region from EGO's best point on what is
+/// left of the budget, with EGO's evaluations in its models (never evaluated twice).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EgoTrustRegionSettings {
+    /// Budget of design points of both phases. Default 40; [3, 100000].
+    pub max_evaluations: usize,
+    /// Points of EGO's initial design. Default 10; [3, 1000], below EGO's share.
+    pub initial_design: usize,
+    /// Seed of EGO (see [`EgoSettings::seed`]). Default 0.
+    pub seed: u64,
+    /// Fraction of `max_evaluations` given to EGO. Default 0.7; (0, 1).
+    pub ego_share: f64,
+    /// Initial trust radius of the refinement. Default 0.1; (0, 1].
+    pub initial_radius: f64,
+    /// The refinement has converged below this radius. Default 0.02; (0, initial_radius).
+    pub min_radius: f64,
+    /// `drillopt map`'s default grid (n_Ω, n_V0). Default [9, 9]; each in [2, 200].
+    pub grid: [usize; 2],
+}
+
+impl Default for EgoTrustRegionSettings {
+    fn default() -> Self {
+        EgoTrustRegionSettings {
+            max_evaluations: 40,
+            initial_design: 10,
+            seed: 0,
+            ego_share: 0.7,
+            initial_radius: 0.1,
+            min_radius: 0.02,
+            grid: [9, 9],
+        }
+    }
+}
+
+impl EgoTrustRegionSettings {
+    /// EGO's share of the budget, `⌊ego_share · max_evaluations⌋` design points.
+    pub fn ego_evaluations(&self) -> usize {
+        (self.ego_share * self.max_evaluations as f64).floor() as usize
+    }
+
+    fn validate(&self) -> Result<(), SettingsError> {
+        check_budget(self.max_evaluations)?;
+        check_grid(self.grid)?;
+        if !(self.ego_share > 0.0 && self.ego_share < 1.0) {
+            return Err(SettingsError {
+                key: "ego_share",
+                message: format!(
+                    "must be a fraction of max_evaluations in (0, 1), got {}",
+                    self.ego_share
+                ),
+            });
+        }
+        check_initial_design(self.initial_design, self.ego_evaluations())?;
+        check_radii(self.initial_radius, self.min_radius)
+    }
+}
+
 /// A builder per settings struct, as Clarabel's `DefaultSettingsBuilder`: it starts from the
 /// defaults, each setter sets one field, and `build` checks every field against its range.
 macro_rules! settings_builder {
@@ -263,6 +392,27 @@ settings_builder!(
     }
 );
 settings_builder!(GridSettings, GridSettingsBuilder { grid: [usize; 2] });
+settings_builder!(
+    EgoSettings,
+    EgoSettingsBuilder {
+        max_evaluations: usize,
+        initial_design: usize,
+        seed: u64,
+        grid: [usize; 2],
+    }
+);
+settings_builder!(
+    EgoTrustRegionSettings,
+    EgoTrustRegionSettingsBuilder {
+        max_evaluations: usize,
+        initial_design: usize,
+        seed: u64,
+        ego_share: f64,
+        initial_radius: f64,
+        min_radius: f64,
+        grid: [usize; 2],
+    }
+);
 
 /// The `[optimizer]` section, validated: the method and the settings it uses, nothing else.
 #[derive(Debug, Clone, PartialEq)]
@@ -271,6 +421,8 @@ pub enum OptimizerSettings {
     NelderMead(NelderMeadSettings),
     ParticleSwarm(ParticleSwarmSettings),
     Grid(GridSettings),
+    Ego(EgoSettings),
+    EgoTrustRegion(EgoTrustRegionSettings),
 }
 
 impl Default for OptimizerSettings {
@@ -286,6 +438,8 @@ impl OptimizerSettings {
             OptimizerSettings::NelderMead(_) => Method::NelderMead,
             OptimizerSettings::ParticleSwarm(_) => Method::ParticleSwarm,
             OptimizerSettings::Grid(_) => Method::Grid,
+            OptimizerSettings::Ego(_) => Method::Ego,
+            OptimizerSettings::EgoTrustRegion(_) => Method::EgoTrustRegion,
         }
     }
 
@@ -296,6 +450,8 @@ impl OptimizerSettings {
             OptimizerSettings::NelderMead(s) => s.grid,
             OptimizerSettings::ParticleSwarm(s) => s.grid,
             OptimizerSettings::Grid(s) => s.grid,
+            OptimizerSettings::Ego(s) => s.grid,
+            OptimizerSettings::EgoTrustRegion(s) => s.grid,
         }
     }
 
@@ -304,7 +460,10 @@ impl OptimizerSettings {
         match self {
             OptimizerSettings::TrustRegion(s) => s.start,
             OptimizerSettings::NelderMead(s) => s.start,
-            OptimizerSettings::ParticleSwarm(_) | OptimizerSettings::Grid(_) => None,
+            OptimizerSettings::ParticleSwarm(_)
+            | OptimizerSettings::Grid(_)
+            | OptimizerSettings::Ego(_)
+            | OptimizerSettings::EgoTrustRegion(_) => None,
         }
     }
 
@@ -316,6 +475,8 @@ impl OptimizerSettings {
             OptimizerSettings::NelderMead(s) => s.max_evaluations,
             OptimizerSettings::ParticleSwarm(s) => s.max_evaluations,
             OptimizerSettings::Grid(s) => s.grid[0].max(s.grid[1]).pow(2),
+            OptimizerSettings::Ego(s) => s.max_evaluations,
+            OptimizerSettings::EgoTrustRegion(s) => s.max_evaluations,
         }
     }
 }
