@@ -128,3 +128,16 @@ pub(crate) fn check_budget(max_evaluations: usize) -> Result<(), OptimizeError> 
     }
     Ok(())
 }
+
+/// A constraint tolerance (how far a point may violate a linear limit and still count as
+/// feasible): finite and ≥ 0.
+pub(crate) fn check_constraint_tol(constraint_tol: f64) -> Result<(), OptimizeError> {
+    if !(constraint_tol.is_finite() && constraint_tol >= 0.0) {
+        return Err(OptimizeError::InvalidOption {
+            name: "constraint_tol",
+            value: constraint_tol,
+            reason: "must be finite and ≥ 0",
+        });
+    }
+    Ok(())
+}

@@ -100,14 +100,7 @@ impl SwarmOptions {
                 });
             }
         }
-        if !(self.constraint_tol.is_finite() && self.constraint_tol >= 0.0) {
-            return Err(OptimizeError::InvalidOption {
-                name: "constraint_tol",
-                value: self.constraint_tol,
-                reason: "must be finite and ≥ 0",
-            });
-        }
-        Ok(())
+        super::error::check_constraint_tol(self.constraint_tol)
     }
 }
 

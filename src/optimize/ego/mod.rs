@@ -106,14 +106,7 @@ impl EgoOptions {
                 reason: "must exceed initial_design (EGO needs at least one infill point)",
             });
         }
-        if !(self.constraint_tol.is_finite() && self.constraint_tol >= 0.0) {
-            return Err(OptimizeError::InvalidOption {
-                name: "constraint_tol",
-                value: self.constraint_tol,
-                reason: "must be finite and ≥ 0",
-            });
-        }
-        Ok(())
+        crate::optimize::error::check_constraint_tol(self.constraint_tol)
     }
 }
 
