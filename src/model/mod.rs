@@ -11,6 +11,7 @@ pub use basis::{BasisSpec, FamilySize};
 pub use bit::{BitLoad, BitRock, BitRockLaw};
 pub use parameters::{Enters, ParameterKey, ParameterSpec};
 pub use params::{
-    API_GRADES, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start, WallContact,
+    API_GRADES, CampbellSettings, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start,
+    WallContact,
 };
 pub use section::{Section, cowper_shear_factor};

@@ -195,7 +195,7 @@ pub struct Study {
 }
 
 /// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
-pub const METRICS: [&str; 24] = [
+pub const METRICS: [&str; 26] = [
     "mean_rop_m_s",
     "mean_rop_m_per_h",
     "stick_slip_severity",
@@ -220,4 +220,6 @@ pub const METRICS: [&str; 24] = [
     "von_mises_utilization",
     "max_compression_n",
     "max_torque_nm",
+    "critical_speed_margin",
+    "critical_speed_proximity",
 ];

@@ -1,5 +1,6 @@
 //! Writing results to disk: atomic file writes ([`write_atomic`], [`write_json_atomic`]), the time
-//! history as CSV ([`timeseries_csv`]), every evaluation of a study as CSV ([`evaluations_csv`])
+//! history as CSV ([`timeseries_csv`]), every evaluation of a study as CSV ([`evaluations_csv`]),
+//! the Campbell diagram of `drillopt campbell` ([`plot_campbell`], [`CampbellJson`]),
 //! and SVG plots after the seed paper's Figs. 3–5 ([`plot_bit_axial`], [`plot_bit_rotation`], [`plot_probe_radial`], built on [`plot_panels`]).
 //!
 //! Every file is written whole or not at all (temporary file, fsync, rename), so an interrupted
@@ -9,6 +10,7 @@
 
 mod atomic;
 mod axes;
+mod campbell;
 mod csv;
 mod evaluations_csv;
 mod plots;
@@ -21,6 +23,10 @@ mod units;
 
 pub use atomic::{write_atomic, write_json_atomic};
 pub use axes::{PLOT_BUCKETS, decimate_min_max};
+pub use campbell::{
+    CampbellJson, CampbellModeJson, CampbellPlot, CampbellPointJson, LinearisationJson,
+    plot_campbell,
+};
 pub use csv::{probe_column_name, timeseries_csv, write_timeseries_csv};
 pub use evaluations_csv::{evaluations_csv, write_evaluations_csv};
 pub use plots::{

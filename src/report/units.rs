@@ -50,6 +50,8 @@ impl<'a> MetricDisplay<'a> {
             "von_mises_utilization" => ("von Mises utilization (peak / yield)", "%", 100.0),
             "max_compression_n" => ("largest compression", "kN", 1e-3),
             "max_torque_nm" => ("largest torque in the string", "kN·m", 1e-3),
+            "critical_speed_margin" => ("distance from the nearest critical speed", "%", 100.0),
+            "critical_speed_proximity" => ("critical speed proximity (1 / margin)", "", 1.0),
             other => (other, "", 1.0),
         };
         MetricDisplay { name, unit, scale }

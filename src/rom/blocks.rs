@@ -481,7 +481,12 @@ mod tests {
     fn a_selection_of_dofs_is_a_scatter_and_a_gather() {
         let rows = [0usize, 2, 3, 7];
         let phi = DMatrix::from_fn(9, 4, |i, j| if rows[j] == i { 1.0 } else { 0.0 });
-        let families = [Family::Axial, Family::BendingY, Family::Torsional, Family::Axial];
+        let families = [
+            Family::Axial,
+            Family::BendingY,
+            Family::Torsional,
+            Family::Axial,
+        ];
         let blocks = BlockBasis::new(&phi, &families);
         assert_eq!(blocks.selection.as_deref(), Some(&rows[..]));
         assert_eq!(blocks.modes(), 4);
@@ -496,7 +501,10 @@ mod tests {
         let scratch = DMatrix::from_fn(9, 4, |i, j| (i * 4 + j) as f64);
         let mut out = DMatrix::from_element(4, 4, 1.0);
         blocks.add_projected_columns(&scratch, &mut out, &mut work);
-        assert_eq!(out, DMatrix::from_element(4, 4, 1.0) + phi.transpose() * &scratch);
+        assert_eq!(
+            out,
+            DMatrix::from_element(4, 4, 1.0) + phi.transpose() * &scratch
+        );
         let mut scaled = phi.clone();
         scaled[(7, 3)] = 2.0;
         assert!(BlockBasis::new(&scaled, &families).selection.is_none());

@@ -15,7 +15,7 @@ pub use envelope::StressEnvelope;
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,
     STEPS_PER_PERIOD, SimulationError, SolverStats, preloaded_equilibrium, resolving_step,
-    run_problem, simulate, static_equilibrium,
+    run_model, run_problem, simulate, static_equilibrium,
 };
 pub use series::{CHANNELS, Channel, Frame, TimeSeries};
 
@@ -25,4 +25,6 @@ pub use series::{CHANNELS, Channel, Frame, TimeSeries};
 /// step resolving the lowest torsional and axial modes, averaged bit speed, impacts by speed.
 /// 3: strain tangent refreshed after failed attempts only; metric stick_slip_severity_raw.
 /// 4: stress envelope and its metrics (max_von_mises_pa, …); the simulated motion is unchanged.
-pub const SIMULATOR_REVISION: u32 = 4;
+/// 5: metrics critical_speed_margin and critical_speed_proximity (Campbell diagram at rest); the
+/// simulated motion is unchanged.
+pub const SIMULATOR_REVISION: u32 = 5;
