@@ -5,6 +5,7 @@
 //! The physics is that of `MODEL.md` (Cunha Jr, Soize & Sampaio 2014, with its settled choices).
 
 pub mod cache;
+pub mod campbell;
 pub mod cli;
 pub mod fatigue;
 pub mod fem;

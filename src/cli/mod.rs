@@ -2,6 +2,7 @@
 //! binary's edge, where errors become `anyhow` reports and exit codes.
 
 mod batch;
+mod campbell;
 mod compare;
 mod map;
 mod modes;
@@ -25,6 +26,8 @@ pub struct Cli {
 pub enum Command {
     /// The lowest natural modes of the linear drillstring (constrained FE model).
     Modes(modes::ModesArgs),
+    /// Natural frequencies against the rotation speed (Campbell diagram), whirl, critical speeds.
+    Campbell(campbell::CampbellArgs),
     /// One operating point through the nonlinear reduced-order simulator.
     Simulate(simulate::SimulateArgs),
     /// The robust optimum (Ω, V0) of a problem: solution.json and plots.
@@ -69,6 +72,7 @@ pub(crate) fn basis_error(
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Modes(args) => modes::run(&args),
+        Command::Campbell(args) => campbell::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Solve(args) => solve::run(&args),
         Command::Compare(args) => compare::run(&args),

@@ -137,20 +137,36 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     } else {
         sim::ModelKind::Reduced
     };
-    let output = sim::run_problem(&problem, kind, op, duration, |t| {
+    let model = kind
+        .build(&problem)
+        .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
+    let output = sim::run_model(&problem, &model, op, duration, |t| {
         bar.set_position((1000.0 * t / duration) as u64);
         bar.set_message(format!("t = {t:.2} / {duration} s"));
-    })
-    .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
+    });
+    bar.set_message("critical speeds");
+    // The margin depends on the model and Ω only; a string without a resting state has none.
+    let margin = crate::campbell::critical_speed_margin(
+        &model,
+        problem.campbell.excitation_multiple,
+        op.omega,
+    );
     bar.finish_and_clear();
 
     let settling = problem.simulation.settling_time.min(0.5 * duration);
     let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling);
-    let (metrics, metrics_error) =
+    let (metrics, mut metrics_error) =
         match metrics::of_run(&output, &config, problem.model.pipe.yield_strength) {
             Ok(m) => (Some(m), None),
             Err(e) => (None, Some(e.to_string())),
         };
+    let metrics = match margin {
+        Ok(m) => metrics.map(|x| x.with_critical_speed_margin(m)),
+        Err(e) => {
+            metrics_error.get_or_insert(format!("critical_speed_margin: {e}"));
+            metrics
+        }
+    };
     // A window too short to batch keeps its metrics and goes without intervals.
     let confidence_95 = metrics::batch_means(&output.series, &config).ok();
     let summary = SummaryJson {

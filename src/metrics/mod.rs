@@ -1,7 +1,8 @@
 //! Metrics of one simulation (`MODEL.md` §8): turn the recorded [`TimeSeries`] into the numbers
 //! that objectives and reports read — rate of penetration, stick-slip, bit-bounce, wall impacts,
 //! weight and torque on bit, mechanical specific energy, drilling efficiency and an energy-balance
-//! self-check.
+//! self-check; the stress metrics of the run's envelope; and the distance from the critical
+//! speeds, which depends on the model and Ω alone ([`Metrics::with_critical_speed_margin`]).
 //!
 //! # Analysis window
 //! With t₀ = t\[0\] + `settling_time`, the window is the samples with t ≥ t₀. Its start t_s is the
@@ -256,6 +257,19 @@ pub struct Metrics {
     pub buckling_margin: f64,
     /// Where the compression is closest to buckling (element midpoint x), m.
     pub buckling_at_m: f64,
+    /// Relative distance of Ω from the nearest critical speed, min |Ω − Ω_c| / Ω_c over the
+    /// speeds Ω_c where a mode of the string linearised about its resting state meets 1× or k×
+    /// the rotation frequency (k = `campbell.excitation_multiple`, default 3), dimensionless in
+    /// [0, 0.5]: 0 on a critical speed, capped at 0.5 (no critical speed in [Ω/1.5, 2Ω]); see
+    /// [`crate::campbell::margin`]. It depends on the model and Ω only, not on the run. Larger is
+    /// safer, so risk terms and chance constraints use its inverse,
+    /// `critical_speed_proximity`. NaN when not computed (a bare time series, or a resting state
+    /// that does not converge).
+    pub critical_speed_margin: f64,
+    /// 1 / `critical_speed_margin`, dimensionless in [2, +∞] (+∞ on a critical speed; written
+    /// `null` in JSON): larger is closer to resonance, e.g. a chance constraint with threshold
+    /// 10 keeps Ω at least 10 % from every critical speed.
+    pub critical_speed_proximity: f64,
 }
 
 impl Metrics {
@@ -293,9 +307,17 @@ impl Metrics {
         self
     }
 
+    /// These metrics with `critical_speed_margin` = `margin` (see the field; NaN: unknown) and
+    /// its inverse.
+    pub fn with_critical_speed_margin(mut self, margin: f64) -> Self {
+        self.critical_speed_margin = margin;
+        self.critical_speed_proximity = 1.0 / margin;
+        self
+    }
+
     /// Every metric with its `summary.json` key, values as they are (±∞ and NaN included: a
     /// JSON round trip would turn them into null).
-    pub fn named_values(&self) -> [(&'static str, f64); 31] {
+    pub fn named_values(&self) -> [(&'static str, f64); 33] {
         [
             ("mean_rop_m_s", self.mean_rop_m_s),
             ("mean_rop_m_per_h", self.mean_rop_m_per_h),
@@ -334,6 +356,8 @@ impl Metrics {
             ),
             ("buckling_margin", self.buckling_margin),
             ("buckling_at_m", self.buckling_at_m),
+            ("critical_speed_margin", self.critical_speed_margin),
+            ("critical_speed_proximity", self.critical_speed_proximity),
         ]
     }
 }
@@ -456,6 +480,8 @@ pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, M
         helical_buckling_utilization: f64::NAN,
         buckling_margin: f64::NAN,
         buckling_at_m: f64::NAN,
+        critical_speed_margin: f64::NAN,
+        critical_speed_proximity: f64::NAN,
     })
 }
 

@@ -413,6 +413,11 @@ fn serializes_with_exactly_the_documented_keys() {
     );
     assert!((m.von_mises_safety_factor - 3.1).abs() < 1e-12);
     assert!((m.von_mises_utilization - 3e8 / 930e6).abs() < 1e-15);
+    let m = m.with_critical_speed_margin(0.25);
+    assert_eq!(
+        (m.critical_speed_margin, m.critical_speed_proximity),
+        (0.25, 4.0)
+    );
     let json = serde_json::to_value(&m).unwrap();
     let mut keys: Vec<&str> = json
         .as_object()

@@ -16,6 +16,8 @@ pub use bit::{BitLoad, BitRock, BitRockLaw};
 pub use buckling::BucklingLoads;
 pub use law::{Chosen, Law, LawEntry};
 pub use parameters::{Enters, ParameterKey, ParameterSpec};
-pub use params::{API_GRADES, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start};
+pub use params::{
+    API_GRADES, CampbellSettings, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start,
+};
 pub use section::{Section, cowper_shear_factor};
 pub use wall::{NormalForce, WallContact, WallContactLaw};

@@ -121,6 +121,32 @@ pub struct Simulation {
     pub start: Start,
 }
 
+/// `[campbell]` of a problem file: what the critical speeds of `drillopt campbell` and of the
+/// metric `critical_speed_margin` are sought against.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CampbellSettings {
+    /// The multiple k of the rotation frequency that the bit excites besides 1× (mass unbalance,
+    /// bent pipe), dimensionless, in [1, 50]; default [`CampbellSettings::DEFAULT_MULTIPLE`] = 3,
+    /// the tri-cone bit, whose three cones leave a three-lobed bottom-hole pattern that excites
+    /// the string at three times the rotation frequency (Dareing, J. Pet. Tech. 36, 1984; Spanos,
+    /// Chevallier, Politis & Payne, *Oil and gas well drilling: a vibrations perspective*, Shock
+    /// Vib. Digest 35, 2003). A PDC bit with n blades excites n×.
+    pub excitation_multiple: f64,
+}
+
+impl CampbellSettings {
+    /// The tri-cone bit's 3×.
+    pub const DEFAULT_MULTIPLE: f64 = 3.0;
+}
+
+impl Default for CampbellSettings {
+    fn default() -> Self {
+        CampbellSettings {
+            excitation_multiple: Self::DEFAULT_MULTIPLE,
+        }
+    }
+}
+
 /// The state a run starts from (MODEL.md §4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "lowercase")]

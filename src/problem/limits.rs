@@ -41,6 +41,11 @@ pub fn range_of(key: &str) -> Option<Range> {
             crate::units::from_m_per_h(1000.0),
             "at most 1000 m/h; 0 is off-bottom rotation",
         ),
+        "campbell.excitation_multiple" => closed(
+            1.0,
+            50.0,
+            "1× to 50× the rotation frequency: 3 for a tri-cone bit, the blade count of a PDC bit",
+        ),
         "simulation.duration" => open(0.0, 86_400.0, "at most a day of simulated time"),
         "simulation.time_step" => closed(1e-6, 1.0, "a nominal step between 1 µs and 1 s"),
         _ => return None,

@@ -17,7 +17,7 @@ mod validate_threshold;
 pub use crate::units::{self, Dimension, UnitError};
 pub use error::{KeyError, ProblemError};
 
-use crate::model::{Drillstring, Mesh, OperatingPoint, Simulation};
+use crate::model::{CampbellSettings, Drillstring, Mesh, OperatingPoint, Simulation};
 use std::path::{Path, PathBuf};
 
 /// A validated study: the model, its discretisation, the operating point and the simulation window.
@@ -37,6 +37,8 @@ pub struct Problem {
     pub simulation: Simulation,
     /// Uncertain parameters, objective, constraints, optimizer and expected optimum (issue 4).
     pub study: study::Study,
+    /// `[campbell]`: the excitation multiple of the critical speeds (default 3×).
+    pub campbell: CampbellSettings,
 }
 
 impl Problem {

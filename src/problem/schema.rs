@@ -57,6 +57,15 @@ pub struct ProblemFile {
     pub constraints: Option<super::study::ConstraintsSection>,
     pub optimizer: Option<super::study::OptimizerSection>,
     pub expect: Option<super::study::ExpectSection>,
+    pub campbell: Option<CampbellSection>,
+}
+
+/// `[campbell]`: the excitation the critical speeds are sought against.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CampbellSection {
+    /// The bit's multiple of the rotation frequency (3 for a tri-cone bit).
+    pub excitation_multiple: Option<RawQuantity>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

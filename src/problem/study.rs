@@ -201,7 +201,7 @@ pub struct Study {
 }
 
 /// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
-pub const METRICS: [&str; 31] = [
+pub const METRICS: [&str; 33] = [
     "mean_rop_m_s",
     "mean_rop_m_per_h",
     "stick_slip_severity",
@@ -233,6 +233,8 @@ pub const METRICS: [&str; 31] = [
     "helical_buckling_utilization",
     "buckling_margin",
     "buckling_at_m",
+    "critical_speed_margin",
+    "critical_speed_proximity",
 ];
 
 /// The dimension of a metric's value and the factor from SI to the unit its key names (the value
@@ -261,7 +263,9 @@ pub fn metric_unit(key: &str) -> Option<(super::Dimension, f64)> {
         | "von_mises_utilization"
         | "buckling_utilization"
         | "helical_buckling_utilization"
-        | "buckling_margin" => (Dimensionless, 1.0),
+        | "buckling_margin"
+        | "critical_speed_margin"
+        | "critical_speed_proximity" => (Dimensionless, 1.0),
         "impacts_per_s" => (Rate, 1.0),
         "peak_wall_force_n" | "mean_wob_n" | "max_compression_n" => (Force, 1.0),
         "contact_impulse_ns" => (Impulse, 1.0),

@@ -7,8 +7,8 @@ use crate::model::bit::BIT_LAWS;
 use crate::model::law::{Chosen, Law, LawEntry, find};
 use crate::model::wall::WALL_LAWS;
 use crate::model::{
-    BasisSpec, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec, Pipe, Simulation,
-    Start, cowper_shear_factor,
+    BasisSpec, CampbellSettings, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec,
+    Pipe, Simulation, Start, cowper_shear_factor,
 };
 use crate::units::show;
 use serde::Deserialize;
@@ -336,6 +336,7 @@ pub(super) fn problem(
     let study = model
         .as_ref()
         .and_then(|m| c.section(super::validate_study::study(&c, &raw, m)));
+    let campbell = c.section(campbell(&c, raw.campbell.as_ref()));
     let name = match raw.name {
         Some(n) if n.trim().is_empty() || n.contains(['/', '\\']) || n == "." || n == ".." => {
             c.record(
@@ -363,7 +364,21 @@ pub(super) fn problem(
         operating_point: operating_point.expect(missing),
         simulation: simulation.expect(missing),
         study: study.expect(missing),
+        campbell: campbell.expect(missing),
     })
+}
+
+/// `[campbell]`: the excitation multiple, a number in [1, 50] (default 3, a tri-cone bit).
+fn campbell(c: &Checker, s: Option<&CampbellSection>) -> Result<CampbellSettings, ProblemError> {
+    let mut settings = CampbellSettings::default();
+    if let Some(raw) = s.and_then(|s| s.excitation_multiple.as_ref()) {
+        settings.excitation_multiple = c.value(
+            "campbell.excitation_multiple",
+            raw,
+            Dimension::Dimensionless,
+        )?;
+    }
+    Ok(settings)
 }
 
 fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemError> {

@@ -35,8 +35,9 @@ pub(super) fn study(
         .transpose()?;
     let optimizer = optimizer(c, raw.optimizer.as_ref(), constraints.as_ref())?;
     let expect = raw.expect.as_ref().map(|e| expect(c, e)).transpose()?;
-    // Risk terms and chance constraints penalise large values: the safety factor (larger is
-    // safer) is refused there, and its inverse, the utilization, needs a yield strength.
+    // Risk terms and chance constraints penalise large values: the safety factor and the
+    // critical speed margin (larger is safer) are refused there, in favour of their inverses;
+    // the utilization needs a yield strength.
     let at = |uses: &dyn Fn(&str) -> bool| {
         risk.iter()
             .position(|r| uses(&r.metric))
@@ -67,6 +68,12 @@ pub(super) fn study(
                 ),
             ));
         }
+    }
+    if let Some(key) = at(&|m| m == "critical_speed_margin") {
+        return Err(c.fail(
+            &key,
+            "critical_speed_margin is larger when safer, and risk terms and chance constraints penalise large values: use critical_speed_proximity (1 / margin), e.g. a chance constraint with threshold 10 for a margin of at least 10 % from every critical speed".into(),
+        ));
     }
     if model.pipe.yield_strength.is_none()
         && let Some(key) = at(&|m| m == "von_mises_utilization")

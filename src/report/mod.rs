@@ -1,6 +1,7 @@
 //! Writing results to disk: atomic file writes ([`write_atomic`], [`write_json_atomic`]), the time
 //! history as CSV ([`timeseries_csv`]), the stress envelope along the string as CSV and SVG
-//! ([`envelope_csv`], [`plot_stress_envelope`]), every evaluation of a study as CSV ([`evaluations_csv`])
+//! ([`envelope_csv`], [`plot_stress_envelope`]), every evaluation of a study as CSV ([`evaluations_csv`]),
+//! the Campbell diagram of `drillopt campbell` ([`plot_campbell`], [`CampbellJson`]),
 //! and SVG plots after the seed paper's Figs. 3–5 ([`plot_bit_axial`], [`plot_bit_rotation`], [`plot_probe_radial`], built on [`plot_panels`]).
 //!
 //! Every file is written whole or not at all (temporary file, fsync, rename), so an interrupted
@@ -10,6 +11,7 @@
 
 mod atomic;
 mod axes;
+mod campbell;
 mod csv;
 mod envelope;
 mod evaluations_csv;
@@ -23,6 +25,10 @@ mod units;
 
 pub use atomic::{write_atomic, write_json_atomic};
 pub use axes::{PLOT_BUCKETS, decimate_min_max};
+pub use campbell::{
+    CampbellJson, CampbellModeJson, CampbellPlot, CampbellPointJson, LinearisationJson,
+    plot_campbell,
+};
 pub use csv::{probe_column_name, timeseries_csv, write_timeseries_csv};
 pub use envelope::{envelope_csv, plot_stress_envelope, write_envelope_csv};
 pub use evaluations_csv::{evaluations_csv, write_evaluations_csv};

@@ -61,6 +61,8 @@ impl<'a> MetricDisplay<'a> {
                 1.0,
             ),
             "buckling_at_m" => ("where compression is closest to buckling", "m", 1.0),
+            "critical_speed_margin" => ("distance from the nearest critical speed", "%", 100.0),
+            "critical_speed_proximity" => ("critical speed proximity (1 / margin)", "", 1.0),
             other => (other, "", 1.0),
         };
         MetricDisplay { name, unit, scale }

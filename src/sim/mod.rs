@@ -17,7 +17,7 @@ pub use fatigue::{FATIGUE_FIBRES, SectionFatigue};
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,
     STEPS_PER_PERIOD, SimulationError, SolverStats, preloaded_equilibrium, resolving_step,
-    run_problem, simulate, static_equilibrium,
+    run_model, run_problem, simulate, static_equilibrium,
 };
 pub use series::{CHANNELS, Channel, Frame, TimeSeries};
 
@@ -27,5 +27,6 @@ pub use series::{CHANNELS, Channel, Frame, TimeSeries};
 /// step resolving the lowest torsional and axial modes, averaged bit speed, impacts by speed.
 /// 3: strain tangent refreshed after failed attempts only; metric stick_slip_severity_raw.
 /// 4: stress envelope and its metrics (max_von_mises_pa, …); the simulated motion is unchanged.
-/// 5: fatigue (rainflow, Miner) and buckling metrics in every record; the motion is unchanged.
+/// 5: fatigue (rainflow, Miner), buckling, critical_speed_margin and critical_speed_proximity
+/// (Campbell diagram at rest) in every record; the simulated motion is unchanged.
 pub const SIMULATOR_REVISION: u32 = 5;

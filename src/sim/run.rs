@@ -577,17 +577,28 @@ pub fn run_problem(
     progress: impl FnMut(f64),
 ) -> Result<RunOutput, crate::rom::BasisError> {
     let model = kind.build(problem)?;
+    Ok(run_model(problem, &model, op, duration, progress))
+}
+
+/// [`run_problem`] on a model already built from `problem`.
+pub fn run_model(
+    problem: &crate::problem::Problem,
+    model: &ReducedModel,
+    op: OperatingPoint,
+    duration: f64,
+    progress: impl FnMut(f64),
+) -> RunOutput {
     let mut settings = RunSettings::new(duration, problem.simulation.time_step);
     settings.probes = problem.simulation.probes.clone();
     settings.envelope_from = problem.simulation.settling_time.min(0.5 * duration);
-    Ok(simulate(
-        &model,
+    simulate(
+        model,
         op,
         Effects::ALL,
         &settings,
         InitialState::from(problem.simulation.start),
         progress,
-    ))
+    )
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@
 use super::executor::{SampleExecutor, SampleJob, Simulated, Threads};
 use super::score::{PointEvaluation, SampleOutcome, SampleResult, metric_map, score};
 use crate::cache::{CacheKey, EvalCache, EvalInfo, Outcome, stable_hash};
+use crate::campbell::{self, LinearSystem, Linearisation, MarginTable};
 use crate::metrics::{self, MetricsConfig};
 use crate::model::{Drillstring, Enters, OperatingPoint};
 use crate::problem::Problem;
@@ -17,8 +18,8 @@ use crate::rom::{BasisError, ReducedModel};
 use crate::sim::{Effects, InitialState, RunSettings, simulate};
 use crate::stats::{Distribution, SampleSet};
 use rayon::prelude::*;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 /// Counters of work done (for notes and the resume test).
@@ -38,6 +39,14 @@ pub struct RobustEvaluator<'a> {
     pub samples: SampleSet,
     /// One reduced model per sample (shared when no uncertain parameter changes the operators).
     models: Vec<Arc<ReducedModel>>,
+    /// The critical speeds of each sample's model, searched once, on first use, over the
+    /// windows of [`RobustEvaluator::margin_range`]; samples that differ in bit parameters
+    /// only share one (`margin_owner`).
+    margins: Vec<OnceLock<Option<MarginTable>>>,
+    margin_owner: Vec<usize>,
+    /// The rotation speeds the tables answer for, rad/s: the `[constraints]` bounds of Ω, else
+    /// the admissible 1–1000 rpm.
+    margin_range: [f64; 2],
     settings: RunSettings,
     cache: Option<&'a EvalCache>,
     pub model_hash: u64,
@@ -78,13 +87,16 @@ struct CanonicalModel<'a> {
     run: &'a RunSettings,
     /// The uncertain parameters and their laws, in declaration order.
     uncertain: Vec<(&'a str, Distribution)>,
+    /// `[campbell]`: the excitation multiple of `critical_speed_margin`.
+    campbell: &'a crate::model::CampbellSettings,
 }
 
 /// [`stable_hash`] of the canonical serialisation of everything that determines a simulation's
 /// result apart from the operating point and the sample: the simulator revision, the model (bit
 /// law by name and parameters), mesh and basis, simulation window and start, integrator
-/// settings, and the uncertain laws. The drillopt version is not part of it: a release that does
-/// not change the numerics keeps its cache.
+/// settings, the uncertain laws and the excitation multiple of the critical speeds. The
+/// drillopt version is not part of it: a release that does not change the numerics keeps its
+/// cache.
 pub fn model_hash(problem: &Problem) -> u64 {
     let run = run_settings(problem);
     let canonical = CanonicalModel {
@@ -99,6 +111,7 @@ pub fn model_hash(problem: &Problem) -> u64 {
             .iter()
             .map(|u| (u.key.name(), u.law))
             .collect(),
+        campbell: &problem.campbell,
     };
     let bytes = serde_json::to_vec(&canonical).expect("the model serialises");
     stable_hash(&bytes)
@@ -165,9 +178,34 @@ impl<'a> RobustEvaluator<'a> {
                 .collect()
         };
         let settings = run_settings(problem);
+        // Bit parameters do not enter the string linearised at rest: samples that agree on every
+        // other parameter share their critical speeds.
+        let linear_values = |i: usize| -> Vec<u64> {
+            study
+                .uncertain
+                .iter()
+                .zip(&samples.samples[i].values)
+                .filter(|(u, _)| !u.key.name().starts_with("model.bit."))
+                .map(|(_, v)| v.to_bits())
+                .collect()
+        };
+        let margin_owner: Vec<usize> = (0..models.len())
+            .map(|i| {
+                (0..=i)
+                    .find(|&j| linear_values(j) == linear_values(i))
+                    .unwrap_or(i)
+            })
+            .collect();
+        let margin_range = study.constraints.as_ref().map_or(
+            [crate::units::from_rpm(1.0), crate::units::from_rpm(1000.0)],
+            |c| c.omega,
+        );
         Ok(RobustEvaluator {
             problem,
             samples,
+            margins: (0..models.len()).map(|_| OnceLock::new()).collect(),
+            margin_owner,
+            margin_range,
             models,
             settings,
             cache,
@@ -314,8 +352,29 @@ impl<'a> RobustEvaluator<'a> {
         let settling = sim.settling_time.min(0.5 * sim.duration);
         let config = MetricsConfig::new(op.omega, op.v0, model.string.borehole_radius, settling);
         match metrics::of_run(&out, &config, model.string.pipe.yield_strength) {
-            Ok(m) => SampleOutcome::Metrics(metric_map(&m)),
+            Ok(m) => SampleOutcome::Metrics(metric_map(
+                &m.with_critical_speed_margin(self.critical_speed_margin(index, op.omega)),
+            )),
             Err(e) => SampleOutcome::Failed(format!("metrics: {e}")),
+        }
+    }
+
+    /// `critical_speed_margin` of sample `index`'s model at `omega` (rad/s): from the sample's
+    /// table of critical speeds (searched on first use), or searched for this Ω alone when it
+    /// lies outside the table's range; NaN when the string has no resting state to linearise
+    /// about.
+    pub fn critical_speed_margin(&self, index: usize, omega: f64) -> f64 {
+        let owner = self.margin_owner[index];
+        let model = &self.models[owner];
+        let multiple = self.problem.campbell.excitation_multiple;
+        let table = self.margins[owner].get_or_init(|| {
+            LinearSystem::about_rest(model, Linearisation::default())
+                .and_then(|sys| MarginTable::search(&sys, multiple, self.margin_range))
+                .ok()
+        });
+        match table.as_ref().and_then(|t| t.margin(omega)) {
+            Some(m) => m,
+            None => campbell::critical_speed_margin(model, multiple, omega).unwrap_or(f64::NAN),
         }
     }
 
