@@ -98,11 +98,11 @@ fn print_summary(
 ) {
     use std::sync::atomic::Ordering::Relaxed;
     println!(
-        "{}: {} points evaluated by {} ({} simulations run, {} from the cache); {}",
+        "{}: {} evaluated by {} ({} run, {} from the cache); {}",
         problem.name,
-        outcome.evaluations.len(),
+        crate::units::count(outcome.evaluations.len(), "point"),
         outcome.method.name(),
-        ev.counters.simulated.load(Relaxed),
+        crate::units::count(ev.counters.simulated.load(Relaxed), "simulation"),
         ev.counters.cached.load(Relaxed),
         outcome.termination
     );

@@ -64,7 +64,7 @@ impl SampleExecutor for Threads {
     }
 
     fn describe(&self) -> String {
-        format!("{} threads", rayon::current_num_threads())
+        crate::units::count(rayon::current_num_threads(), "thread")
     }
 }
 

@@ -126,7 +126,7 @@ impl SampleExecutor for MpiExecutor {
     }
 
     fn describe(&self) -> String {
-        format!("{} MPI ranks", ranks())
+        crate::units::count(ranks(), "MPI rank")
     }
 }
 

@@ -10,6 +10,16 @@ mod range;
 pub use dimension::{Dimension, UnitError};
 pub use range::Range;
 
+/// "1 thread", "2 threads": a count with its noun in the right number (regular English plurals:
+/// the noun plus "s").
+pub fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// rpm per rad/s (60/2π): the one place the conversion is written.
 pub const RPM_PER_RAD_S: f64 = 30.0 / std::f64::consts::PI;
 /// m/h per m/s.
@@ -68,5 +78,15 @@ mod tests {
         assert_eq!(super::show(-2.5e-300), "-2.5e-300");
         assert_eq!(super::show(0.005), "0.005");
         assert_eq!(super::show(f64::NAN), "NaN");
+    }
+}
+
+#[cfg(test)]
+mod count_tests {
+    #[test]
+    fn counts_say_one_thread_and_two_threads() {
+        assert_eq!(super::count(1, "thread"), "1 thread");
+        assert_eq!(super::count(2, "thread"), "2 threads");
+        assert_eq!(super::count(0, "sample"), "0 samples");
     }
 }

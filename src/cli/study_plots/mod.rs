@@ -206,10 +206,10 @@ pub fn solve_plots(problem: &Problem, out: &Path, o: &SolveOutcome) -> anyhow::R
     if let Some(b) = &o.best {
         report::plot_metric_samples(
             &format!(
-                "{}: metrics at the optimum ({}), {} samples",
+                "{}: metrics at the optimum ({}), {}",
                 problem.name,
                 report::operating_point_text(&b.op()),
-                b.samples.len()
+                crate::units::count(b.samples.len(), "sample")
             ),
             &metric_rows(&problem.study, b),
             &out.join("optimum_metrics.svg"),
