@@ -126,7 +126,7 @@ impl SampleExecutor for MpiExecutor {
     }
 
     fn describe(&self) -> String {
-        crate::units::count(ranks(), "MPI rank")
+        crate::units::count(usize::try_from(ranks()).unwrap_or(0), "MPI rank")
     }
 }
 
