@@ -2,10 +2,11 @@
 //! the numerics are tied to `SIMULATOR_REVISION` by a golden run, and a live cache is refused to a
 //! second run.
 
+mod common;
+
 use drillopt::cache::{CacheKey, EvalCache, Outcome};
-use drillopt::model::OperatingPoint;
 use drillopt::problem::Problem;
-use drillopt::sim::{Effects, InitialState, RunSettings, SIMULATOR_REVISION, simulate};
+use drillopt::sim::SIMULATOR_REVISION;
 use drillopt::study::model_hash;
 use std::path::Path;
 use std::process::Command;
@@ -106,25 +107,7 @@ fn golden_run_of_the_current_simulator_revision() {
         ("stick_slip_severity", 0.581679946113546),
         ("max_bit_speed_ratio", 1.5451140805915087),
     ];
-    let p = Problem::load(TINY).unwrap();
-    let model = drillopt::rom::ReducedModel::new(&p.model, p.mesh.elements, &p.mesh.basis).unwrap();
-    let op = OperatingPoint {
-        omega: 8.0,
-        v0: 10.0 / 3600.0,
-    };
-    let out = simulate(
-        &model,
-        op,
-        Effects::ALL,
-        &RunSettings::new(0.6, p.simulation.time_step),
-        InitialState::Preloaded,
-        |_| {},
-    );
-    assert!(out.error.is_none());
-    let config =
-        drillopt::metrics::MetricsConfig::new(op.omega, op.v0, p.model.borehole_radius, 0.2);
-    let m = drillopt::metrics::compute(&out.series, &config).unwrap();
-    let values = m.named_values();
+    let values = common::tiny_run_metrics(&Problem::load(TINY).unwrap());
     let get = |k: &str| values.iter().find(|(n, _)| *n == k).unwrap().1;
     for (k, _) in GOLDEN {
         println!("(\"{k}\", {:?}),", get(k));

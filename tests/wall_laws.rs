@@ -2,11 +2,9 @@
 //! and Hunt–Crossley's, each read and checked against its own parameter table, declared uncertain
 //! by its own keys, keyed in the cache, and driving the simulator.
 
-use drillopt::metrics::{MetricsConfig, compute};
-use drillopt::model::OperatingPoint;
+mod common;
+
 use drillopt::problem::{Problem, ProblemError};
-use drillopt::rom::ReducedModel;
-use drillopt::sim::{Effects, InitialState, RunSettings, simulate};
 use drillopt::study::model_hash;
 use std::path::Path;
 
@@ -123,25 +121,7 @@ fn uncertain_keys_are_those_of_the_chosen_law() {
 
 /// Metrics of a 0.6 s run of the tiny string at 8 rad/s, 10 m/h.
 fn run(p: &Problem) -> Vec<(&'static str, f64)> {
-    let model = ReducedModel::new(&p.model, p.mesh.elements, &p.mesh.basis).unwrap();
-    let op = OperatingPoint {
-        omega: 8.0,
-        v0: 10.0 / 3600.0,
-    };
-    let out = simulate(
-        &model,
-        op,
-        Effects::ALL,
-        &RunSettings::new(0.6, p.simulation.time_step),
-        InitialState::Preloaded,
-        |_| {},
-    );
-    assert!(out.error.is_none(), "{:?}", out.error);
-    let config = MetricsConfig::new(op.omega, op.v0, p.model.borehole_radius, 0.2);
-    compute(&out.series, &config)
-        .unwrap()
-        .named_values()
-        .to_vec()
+    common::tiny_run_metrics(p)
 }
 
 #[test]

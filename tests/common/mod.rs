@@ -126,3 +126,30 @@ pub fn simulate_tiny(extra: &[&str], out: &std::path::Path) -> std::process::Out
         .output()
         .expect("drillopt runs")
 }
+
+/// Metrics (`named_values`) of the golden short run of a tiny-string problem `p`: 0.6 s at
+/// 8 rad/s and 10 m/h from the pre-loaded state, analysis window from 0.2 s.
+pub fn tiny_run_metrics(p: &drillopt::problem::Problem) -> Vec<(&'static str, f64)> {
+    use drillopt::model::OperatingPoint;
+    use drillopt::sim::{Effects, InitialState, RunSettings, simulate};
+    let model = drillopt::rom::ReducedModel::new(&p.model, p.mesh.elements, &p.mesh.basis).unwrap();
+    let op = OperatingPoint {
+        omega: 8.0,
+        v0: 10.0 / 3600.0,
+    };
+    let out = simulate(
+        &model,
+        op,
+        Effects::ALL,
+        &RunSettings::new(0.6, p.simulation.time_step),
+        InitialState::Preloaded,
+        |_| {},
+    );
+    assert!(out.error.is_none(), "{:?}", out.error);
+    let config =
+        drillopt::metrics::MetricsConfig::new(op.omega, op.v0, p.model.borehole_radius, 0.2);
+    drillopt::metrics::compute(&out.series, &config)
+        .unwrap()
+        .named_values()
+        .to_vec()
+}
