@@ -17,7 +17,8 @@ pub use buckling::BucklingLoads;
 pub use law::{Chosen, Law, LawEntry};
 pub use parameters::{Enters, ParameterKey, ParameterSpec};
 pub use params::{
-    API_GRADES, CampbellSettings, Drillstring, Mesh, OperatingPoint, Pipe, Simulation, Start,
+    API_GRADES, CampbellSettings, Drillstring, Mesh, OperatingPoint, Pipe, SampleInterval,
+    Simulation, Start,
 };
 pub use section::{Section, cowper_shear_factor};
 pub use wall::{NormalForce, WallContact, WallContactLaw};

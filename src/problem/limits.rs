@@ -48,6 +48,11 @@ pub fn range_of(key: &str) -> Option<Range> {
         ),
         "simulation.duration" => open(0.0, 86_400.0, "at most a day of simulated time"),
         "simulation.time_step" => closed(1e-6, 1.0, "a nominal step between 1 µs and 1 s"),
+        "simulation.sample_interval" => closed(
+            1e-6,
+            1.0,
+            "an output interval between 1 µs and 1 s (or \"step\": every accepted step)",
+        ),
         _ => return None,
     })
 }

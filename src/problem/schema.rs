@@ -176,4 +176,7 @@ pub struct SimulationSection {
     pub probes: Vec<RawQuantity>,
     /// `"preloaded"` (default) or `"unloaded"` (the paper's).
     pub start: Option<String>,
+    /// Interval of the written time history: a time such as `"0.5 ms"`, or `"step"` (every
+    /// accepted step); default 0.5 ms.
+    pub sample_interval: Option<RawQuantity>,
 }

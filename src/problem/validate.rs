@@ -8,7 +8,7 @@ use crate::model::law::{Chosen, Law, LawEntry, find};
 use crate::model::wall::WALL_LAWS;
 use crate::model::{
     BasisSpec, CampbellSettings, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec,
-    Pipe, Simulation, Start, cowper_shear_factor,
+    Pipe, SampleInterval, Simulation, Start, cowper_shear_factor,
 };
 use crate::units::show;
 use serde::Deserialize;
@@ -723,11 +723,28 @@ fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulat
             ));
         }
     };
+    let sample_interval = match &s.sample_interval {
+        None => SampleInterval::DEFAULT,
+        Some(RawQuantity::Text(t)) if t.trim() == "step" => SampleInterval::EveryStep,
+        Some(raw) => {
+            let key = "simulation.sample_interval";
+            let dt = c.positive(key, raw, Time)?;
+            let dt = c.check(
+                key,
+                dt,
+                dt <= duration || duration.is_nan(),
+                &format!("no longer than simulation.duration ({duration} s), or \"step\""),
+                Time,
+            )?;
+            SampleInterval::Fixed(dt)
+        }
+    };
     Ok(Simulation {
         duration,
         time_step,
         settling_time,
         probes,
         start,
+        sample_interval,
     })
 }

@@ -7,6 +7,7 @@ mod dynamics;
 mod envelope;
 mod fatigue;
 mod run;
+mod sampler;
 mod series;
 
 pub use crate::model::BitLoad;
@@ -17,9 +18,10 @@ pub use fatigue::{FATIGUE_FIBRES, SectionFatigue};
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,
     STEPS_PER_PERIOD, SimulationError, SolverStats, preloaded_equilibrium, resolving_step,
-    run_model, run_problem, simulate, static_equilibrium,
+    run_model, run_model_into, run_problem, simulate, simulate_into, static_equilibrium,
 };
-pub use series::{CHANNELS, Channel, Frame, TimeSeries};
+pub use sampler::{SampleInterval, Sampler};
+pub use series::{CHANNELS, Channel, Frame, Row, Sink, TimeSeries, at};
 
 /// Revision of the simulator's numerics, part of every cache key: bump it with any change that
 /// can move a simulated number (model, basis, start, integrator, metrics), so that results of

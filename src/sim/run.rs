@@ -11,7 +11,7 @@
 //! keeps what it had recorded.
 
 use super::envelope::StressEnvelope;
-use super::series::Frame;
+use super::series::{Frame, Row, Sink};
 use super::{Dynamics, Effects, NodeContact, Observation, TimeSeries};
 use crate::fem::Dof;
 use crate::fem::SectionStress;
@@ -123,6 +123,8 @@ pub enum SimulationError {
         "at t = {time:.6} s the run had made {attempts} step attempts, its limit: the step keeps collapsing (last step {step:e} s)"
     )]
     TooManySteps { time: f64, attempts: u64, step: f64 },
+    #[error("at t = {time:.6} s the recorder stopped the run (its output failed)")]
+    RecordingStopped { time: f64 },
     #[error("at t = {time:.6} s the state became non-finite")]
     NonFinite { time: f64 },
     #[error(
@@ -153,10 +155,11 @@ impl From<StepError> for SimulationError {
     }
 }
 
-/// The outcome of a run: what was recorded, solver counters, and the error that stopped it, if any.
+/// The outcome of a run: what was recorded (the sink it was given, by default the whole
+/// [`TimeSeries`]), solver counters, and the error that stopped it, if any.
 #[derive(Debug, Clone)]
-pub struct RunOutput {
-    pub series: TimeSeries,
+pub struct RunOutput<S = TimeSeries> {
+    pub series: S,
     pub stats: SolverStats,
     pub error: Option<SimulationError>,
     /// Final modal state (q, q̇).
@@ -299,19 +302,25 @@ fn count_impacts(separated: &mut [bool], contacts: &[NodeContact], gap: f64, fir
     impacts
 }
 
-/// Accumulates the time history.
-struct Recorder {
-    series: TimeSeries,
+/// Turns each accepted step into a [`Row`] for the run's sink, with the cumulative work and
+/// impact count it carries, and records the stress envelope. Its buffers are sized once.
+struct Recorder<S> {
+    sink: S,
     /// Per node: separated from the wall by more than IMPACT_SEPARATION × gap since its last contact.
     separated: Vec<bool>,
     onsets: u64,
-    last: Option<Observation>,
+    /// The previous recorded time (s) and observation, and the cumulative works of the last row, J.
+    last: Option<(f64, Observation)>,
+    work: (f64, f64, f64),
     gap: f64,
     envelope: StressEnvelope,
     stress: SectionStress,
+    /// Radial displacement at each probe of the current row, m.
+    probe_radial: Vec<f64>,
 }
 
-impl Recorder {
+impl<S: Sink> Recorder<S> {
+    /// Record the state at `t`; `false` when the sink asks to stop.
     fn push(
         &mut self,
         t: f64,
@@ -319,27 +328,24 @@ impl Recorder {
         obs: Observation,
         sys: &Dynamics,
         probes: &[f64],
-    ) {
-        let s = &mut self.series;
+    ) -> bool {
         let first = self.last.is_none();
         self.onsets += count_impacts(&mut self.separated, &sys.contacts, self.gap, first);
-        let (work_top, work_bit, dissipated) = match (&self.last, s.t.last()) {
-            (Some(prev), Some(&t0)) => {
+        // Trapezoid rule on the powers between the previous and this recorded state.
+        let (work_top, work_bit, dissipated) = match &self.last {
+            Some((t0, prev)) => {
                 let h = t - t0;
-                let (wt, wb, d) = (
-                    s.work_top.last().unwrap(),
-                    s.work_bit.last().unwrap(),
-                    s.dissipated.last().unwrap(),
-                );
+                let (wt, wb, d) = self.work;
                 (
                     wt + 0.5 * h * (prev.power_top + obs.power_top),
                     wb + 0.5 * h * (prev.power_bit + obs.power_bit),
                     d + 0.5 * h * (prev.dissipation + obs.dissipation),
                 )
             }
-            _ => (0.0, 0.0, 0.0),
+            None => (0.0, 0.0, 0.0),
         };
-        s.record(&Frame {
+        self.work = (work_top, work_bit, dissipated);
+        let values = Row::values_of(&Frame {
             t,
             op: *op,
             obs: &obs,
@@ -347,15 +353,20 @@ impl Recorder {
             work_bit,
             dissipated,
         });
-        for (k, &x) in probes.iter().enumerate() {
-            s.probe_radial[k].push(sys.radial_at(x));
+        for (r, &x) in self.probe_radial.iter_mut().zip(probes) {
+            *r = sys.radial_at(x);
         }
-        s.nodes_in_contact.push(obs.nodes_in_contact);
-        s.contact_onsets.push(self.onsets);
+        let go_on = self.sink.record(&Row {
+            values,
+            nodes_in_contact: obs.nodes_in_contact,
+            contact_onsets: self.onsets,
+            probe_radial: &self.probe_radial,
+        });
         // The rigid spin Ω t: with the elastic θx, the sections' absolute rotation (fatigue).
         self.envelope
             .record(t, sys.displacement_full(), op.omega * t, &self.stress);
-        self.last = Some(obs);
+        self.last = Some((t, obs));
+        go_on
     }
 }
 
@@ -416,32 +427,47 @@ fn integrator(
     }
 }
 
-/// Run the model at operating point `op` with the given effects.
+/// Run the model at operating point `op` with the given effects, keeping every accepted step
+/// in memory ([`TimeSeries`]).
 pub fn simulate(
     model: &ReducedModel,
     op: OperatingPoint,
     effects: Effects,
     settings: &RunSettings,
     initial: InitialState,
-    mut progress: impl FnMut(f64),
+    progress: impl FnMut(f64),
 ) -> RunOutput {
+    let series = TimeSeries::with_probes(&settings.probes, 0);
+    simulate_into(model, op, effects, settings, initial, series, progress)
+}
+
+/// [`simulate`], sending each accepted step (the initial state first) to `sink` as it is
+/// accepted instead of keeping them: the run's memory does not grow with its duration unless the
+/// sink's does. A sink that returns `false` stops the run with
+/// [`SimulationError::RecordingStopped`].
+pub fn simulate_into<S: Sink>(
+    model: &ReducedModel,
+    op: OperatingPoint,
+    effects: Effects,
+    settings: &RunSettings,
+    initial: InitialState,
+    sink: S,
+    mut progress: impl FnMut(f64),
+) -> RunOutput<S> {
     let clock = Instant::now();
     let n = model.size();
     let mut stats = SolverStats {
         min_dt: f64::INFINITY,
         ..Default::default()
     };
-    let series = TimeSeries {
-        probe_positions: settings.probes.clone(),
-        probe_radial: vec![Vec::new(); settings.probes.len()],
-        ..Default::default()
-    };
     let element_length = model.string.length / model.elements() as f64;
     let mut rec = Recorder {
-        series,
+        sink,
         separated: vec![false; model.nodes()],
         onsets: 0,
         last: None,
+        work: (0.0, 0.0, 0.0),
+        probe_radial: vec![0.0; settings.probes.len()],
         gap: model.string.gap(),
         envelope: StressEnvelope::for_string(
             &model.string,
@@ -468,7 +494,7 @@ pub fn simulate(
             stats.wall_time_s = clock.elapsed().as_secs_f64();
             let z = DVector::zeros(n);
             return RunOutput {
-                series: rec.series,
+                series: rec.sink,
                 stats,
                 error: Some(e),
                 final_state: (z.clone(), z),
@@ -485,7 +511,9 @@ pub fn simulate(
         error = Some(SimulationError::NonFinite { time: 0.0 });
     }
     let obs = sys.observe(&nm.q, &nm.v, &nm.a);
-    rec.push(0.0, &op, obs, &sys, &settings.probes);
+    if !rec.push(0.0, &op, obs, &sys, &settings.probes) {
+        error = Some(SimulationError::RecordingStopped { time: 0.0 });
+    }
     let max_step = settings.max_step.min(resolving_step(model));
     let h0 = (max_step.min(settings.duration) * 0.01).max(settings.min_step);
     let limits = StepLimits {
@@ -503,7 +531,10 @@ pub fn simulate(
         let nm = &stepper.nm;
         let obs = sys.observe_step(&nm.q, &nm.v, &nm.a);
         let ratio = obs.max_radial_over_gap;
-        rec.push(nm.t, &op, obs, &sys, &settings.probes);
+        if !rec.push(nm.t, &op, obs, &sys, &settings.probes) {
+            error = Some(SimulationError::RecordingStopped { time: nm.t });
+            break;
+        }
         if ratio > settings.divergence_gaps {
             error = Some(SimulationError::Diverged {
                 time: nm.t,
@@ -527,7 +558,7 @@ pub fn simulate(
         stats.min_dt = 0.0;
     }
     RunOutput {
-        series: rec.series,
+        series: rec.sink,
         stats,
         error,
         final_state: (nm.q.clone(), nm.v.clone()),
@@ -588,15 +619,29 @@ pub fn run_model(
     duration: f64,
     progress: impl FnMut(f64),
 ) -> RunOutput {
+    let series = TimeSeries::with_probes(&problem.simulation.probes, 0);
+    run_model_into(problem, model, op, duration, series, progress)
+}
+
+/// [`run_model`] sending each accepted step to `sink` (see [`simulate_into`]).
+pub fn run_model_into<S: Sink>(
+    problem: &crate::problem::Problem,
+    model: &ReducedModel,
+    op: OperatingPoint,
+    duration: f64,
+    sink: S,
+    progress: impl FnMut(f64),
+) -> RunOutput<S> {
     let mut settings = RunSettings::new(duration, problem.simulation.time_step);
     settings.probes = problem.simulation.probes.clone();
     settings.envelope_from = problem.simulation.settling_time.min(0.5 * duration);
-    simulate(
+    simulate_into(
         model,
         op,
         Effects::ALL,
         &settings,
         InitialState::from(problem.simulation.start),
+        sink,
         progress,
     )
 }

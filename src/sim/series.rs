@@ -206,12 +206,121 @@ pub static CHANNELS: [Channel; 17] = [
     ),
 ];
 
+/// Positions of the channels in [`CHANNELS`] (and in [`Row::values`]) that metrics and the
+/// sampler read by position; `channel_positions_match_names` checks them against the names.
+pub mod at {
+    pub const T: usize = 0;
+    pub const BIT_DISPLACEMENT: usize = 1;
+    pub const BIT_VELOCITY: usize = 2;
+    pub const BIT_ROTATION: usize = 3;
+    pub const BIT_ANGULAR_VELOCITY: usize = 4;
+    pub const WEIGHT_ON_BIT: usize = 5;
+    pub const TORQUE_ON_BIT: usize = 6;
+    pub const WALL_FORCE_TOTAL: usize = 9;
+    pub const WALL_FORCE_MAX: usize = 10;
+    pub const MAX_RADIAL_OVER_GAP: usize = 11;
+    pub const KINETIC_ENERGY: usize = 12;
+    pub const POTENTIAL_ENERGY: usize = 13;
+    pub const WORK_TOP: usize = 14;
+    pub const WORK_BIT: usize = 15;
+    pub const DISSIPATED: usize = 16;
+}
+
+/// One recorded state: every real channel of [`CHANNELS`] in their order (SI units, `values[0]`
+/// is the time in s), the contact counts and the radial displacement at each probe (m, in the
+/// order of the run's probe positions).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row<'a> {
+    pub values: [f64; CHANNELS.len()],
+    /// Nodes touching the wall.
+    pub nodes_in_contact: u32,
+    /// Cumulative impacts since t = 0.
+    pub contact_onsets: u64,
+    /// Radial displacement at each probe, m.
+    pub probe_radial: &'a [f64],
+}
+
+impl Row<'_> {
+    /// The time of the row, s.
+    pub fn t(&self) -> f64 {
+        self.values[at::T]
+    }
+
+    /// Every channel of [`CHANNELS`] evaluated on `frame` (the counts and probes are the
+    /// caller's).
+    pub fn values_of(frame: &Frame) -> [f64; CHANNELS.len()] {
+        std::array::from_fn(|k| (CHANNELS[k].record)(frame))
+    }
+}
+
+/// Where a run sends its recorded states: every accepted step, in time order, starting with the
+/// initial state. A sink must not allocate per row in steady state (the time-step loop allocates
+/// nothing); it returns `false` to stop the run (e.g. its output failed; it keeps the reason).
+pub trait Sink {
+    /// Take one recorded state; `false` stops the run.
+    fn record(&mut self, row: &Row<'_>) -> bool;
+}
+
+/// Both sinks receive every row (the run stops if either asks).
+impl<A: Sink, B: Sink> Sink for (A, B) {
+    fn record(&mut self, row: &Row<'_>) -> bool {
+        let a = self.0.record(row);
+        self.1.record(row) && a
+    }
+}
+
+impl<S: Sink + ?Sized> Sink for &mut S {
+    fn record(&mut self, row: &Row<'_>) -> bool {
+        (**self).record(row)
+    }
+}
+
+/// The in-memory history: every row appended (probes beyond `probe_radial.len()` dropped).
+impl Sink for TimeSeries {
+    fn record(&mut self, row: &Row<'_>) -> bool {
+        self.push_row(row);
+        true
+    }
+}
+
 impl TimeSeries {
-    /// Append one sample of every channel of [`CHANNELS`] (the counts and probes are the
-    /// recorder's).
-    pub(crate) fn record(&mut self, frame: &Frame) {
+    /// An empty series for a run with radial probes at `probes` (m), with room for `rows` rows.
+    pub fn with_probes(probes: &[f64], rows: usize) -> Self {
+        let mut s = TimeSeries {
+            probe_positions: probes.to_vec(),
+            probe_radial: vec![Vec::with_capacity(rows); probes.len()],
+            nodes_in_contact: Vec::with_capacity(rows),
+            contact_onsets: Vec::with_capacity(rows),
+            ..Default::default()
+        };
         for ch in &CHANNELS {
-            (ch.get_mut)(self).push((ch.record)(frame));
+            (ch.get_mut)(&mut s).reserve_exact(rows);
+        }
+        s
+    }
+
+    /// Append one row.
+    pub fn push_row(&mut self, row: &Row<'_>) {
+        for (ch, &v) in CHANNELS.iter().zip(&row.values) {
+            (ch.get_mut)(self).push(v);
+        }
+        for (k, probe) in self.probe_radial.iter_mut().enumerate() {
+            probe.push(row.probe_radial.get(k).copied().unwrap_or(f64::NAN));
+        }
+        self.nodes_in_contact.push(row.nodes_in_contact);
+        self.contact_onsets.push(row.contact_onsets);
+    }
+
+    /// Row `i` (its probes written into `probes`, which must hold one slot per probe).
+    pub fn row<'a>(&self, i: usize, probes: &'a mut [f64]) -> Row<'a> {
+        for (slot, probe) in probes.iter_mut().zip(&self.probe_radial) {
+            *slot = probe[i];
+        }
+        Row {
+            values: std::array::from_fn(|k| CHANNELS[k].values(self)[i]),
+            nodes_in_contact: self.nodes_in_contact[i],
+            contact_onsets: self.contact_onsets[i],
+            probe_radial: probes,
         }
     }
 
@@ -238,5 +347,49 @@ impl TimeSeries {
             *(ch.get_mut)(&mut out) = cut((ch.get)(self));
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn channel_positions_match_names() {
+        for (k, name) in [
+            (at::T, "t"),
+            (at::BIT_DISPLACEMENT, "bit_displacement"),
+            (at::BIT_VELOCITY, "bit_velocity"),
+            (at::BIT_ROTATION, "bit_rotation"),
+            (at::BIT_ANGULAR_VELOCITY, "bit_angular_velocity"),
+            (at::WEIGHT_ON_BIT, "weight_on_bit"),
+            (at::TORQUE_ON_BIT, "torque_on_bit"),
+            (at::WALL_FORCE_TOTAL, "wall_force_total"),
+            (at::WALL_FORCE_MAX, "wall_force_max"),
+            (at::MAX_RADIAL_OVER_GAP, "max_radial_over_gap"),
+            (at::KINETIC_ENERGY, "kinetic_energy"),
+            (at::POTENTIAL_ENERGY, "potential_energy"),
+            (at::WORK_TOP, "work_top"),
+            (at::WORK_BIT, "work_bit"),
+            (at::DISSIPATED, "dissipated"),
+        ] {
+            assert_eq!(CHANNELS[k].name, name);
+        }
+    }
+
+    #[test]
+    fn rows_round_trip_through_a_series() {
+        let mut s = TimeSeries::with_probes(&[1.0, 2.0], 2);
+        let values: [f64; CHANNELS.len()] = std::array::from_fn(|k| k as f64 + 0.5);
+        let row = Row {
+            values,
+            nodes_in_contact: 3,
+            contact_onsets: 7,
+            probe_radial: &[0.25, 0.75],
+        };
+        assert!(s.record(&row));
+        assert_eq!(s.len(), 1);
+        let mut probes = [0.0; 2];
+        assert_eq!(s.row(0, &mut probes), row);
     }
 }
