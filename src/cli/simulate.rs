@@ -42,6 +42,11 @@ pub struct SimulateArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Interval of the written time history (`timeseries.csv`, plots), e.g. `0.5ms`, or `step`
+    /// for every accepted adaptive step [default: simulation.sample_interval, 0.5 ms]; the
+    /// metrics read every accepted step whatever it is.
+    #[arg(long, allow_hyphen_values = true)]
+    pub sample_interval: Option<String>,
     /// Run the finite-element model without reduction (every free DOF; a reference for the
     /// reduced basis, for windows of a few seconds: about 100× the reduced model's cost).
     #[arg(long)]
@@ -114,6 +119,36 @@ pub(super) fn point_and_duration(
     Ok((op, duration))
 }
 
+/// The `--sample-interval` override: `step`, or a time with its unit in the admissible range of
+/// `simulation.sample_interval`, no longer than the run.
+fn sample_interval(
+    text: &Option<String>,
+    default: sim::SampleInterval,
+    duration: f64,
+) -> anyhow::Result<sim::SampleInterval> {
+    const KEY: &str = "simulation.sample_interval";
+    let Some(t) = text else {
+        return Ok(default);
+    };
+    if t.trim() == "step" {
+        return Ok(sim::SampleInterval::EveryStep);
+    }
+    let dt = Dimension::Time
+        .parse(t)
+        .with_context(|| format!("--sample-interval (key `{KEY}`; or `step`)"))?;
+    let r = crate::problem::limits::range_of(KEY).expect("the key has a range");
+    anyhow::ensure!(
+        r.contains(dt),
+        "--sample-interval (key `{KEY}`) must be {} or `step`, got {t}",
+        r.describe_in("s", 1.0)
+    );
+    anyhow::ensure!(
+        dt <= duration,
+        "--sample-interval (key `{KEY}`) must be no longer than the run ({duration} s), got {t}"
+    );
+    Ok(sim::SampleInterval::Fixed(dt))
+}
+
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let (op, duration) = point_and_duration(&problem, &args.point)?;
@@ -140,10 +175,28 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let model = kind
         .build(&problem)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
-    let output = sim::run_model(&problem, &model, op, duration, |t| {
+    let interval = sample_interval(
+        &args.sample_interval,
+        problem.simulation.sample_interval,
+        duration,
+    )?;
+    let settling = problem.simulation.settling_time.min(0.5 * duration);
+    let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling);
+    // Every accepted step goes to the metrics; the written history (streamed to disk, and kept
+    // in memory for the plots) is sampled at `interval`.
+    let probes = &problem.simulation.probes;
+    let kept = sim::TimeSeries::with_probes(probes, interval.rows(duration).unwrap_or(0));
+    let csv = report::CsvStream::create(&out.join("timeseries.csv"), probes)?;
+    let sink = (
+        metrics::OnlineMetrics::new(config.clone(), duration)?,
+        sim::Sampler::new(interval, probes.len(), (csv, kept)),
+    );
+    let output = sim::run_model_into(&problem, &model, op, duration, sink, |t| {
         bar.set_position((1000.0 * t / duration) as u64);
         bar.set_message(format!("t = {t:.2} / {duration} s"));
     });
+    let ((online, sampler), output) = output.split();
+    let (csv, series) = sampler.finish();
     bar.set_message("critical speeds");
     // The margin depends on the model and Ω only; a string without a resting state has none. It
     // is taken on the problem's reduced basis even for an unreduced run: a Campbell sweep of every
@@ -166,13 +219,13 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     );
     bar.finish_and_clear();
 
-    let settling = problem.simulation.settling_time.min(0.5 * duration);
-    let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling);
-    let (metrics, mut metrics_error) =
-        match metrics::of_run(&output, &config, problem.model.pipe.yield_strength) {
-            Ok(m) => (Some(m), None),
-            Err(e) => (None, Some(e.to_string())),
-        };
+    let (metrics, mut metrics_error) = match online.metrics() {
+        Ok(m) => (
+            Some(m.with_stresses(&output.envelope, problem.model.pipe.yield_strength)),
+            None,
+        ),
+        Err(e) => (None, Some(e.to_string())),
+    };
     let metrics = match margin {
         Ok(m) => metrics.map(|x| x.with_critical_speed_margin(m)),
         Err(e) => {
@@ -181,7 +234,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         }
     };
     // A window too short to batch keeps its metrics and goes without intervals.
-    let confidence_95 = metrics::batch_means(&output.series, &config).ok();
+    let confidence_95 = online.batch_intervals();
     let summary = SummaryJson {
         record: ProblemRecord::of(&problem, &args.problem),
         operating_point: report::PointJson::at(op),
@@ -205,9 +258,9 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         solver: &output.stats,
     };
     report::write_json_atomic(&out.join("summary.json"), &summary)?;
-    if !output.series.is_empty() {
-        let s = &output.series;
-        report::write_timeseries_csv(&out.join("timeseries.csv"), s)?;
+    if !series.is_empty() {
+        let s = &series;
+        csv.finish()?;
         report::plot_bit_axial(s, &op, &out.join("bit_axial.svg"))?;
         report::plot_bit_rotation(s, &op, &out.join("bit_rotation.svg"))?;
         for (k, x) in s.probe_positions.iter().enumerate() {

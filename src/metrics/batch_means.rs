@@ -51,27 +51,16 @@ pub fn batch_means(
     config: &MetricsConfig,
 ) -> Result<BTreeMap<&'static str, BatchInterval>, MetricsError> {
     compute(series, config)?; // the same checks as the window's own metrics
-    let t = &series.t;
-    let t_s = t[t.partition_point(|&x| x < t[0] + config.settling_time)];
-    let t_end = t[t.len() - 1];
-    let length = (t_end - t_s) / BATCHES as f64;
-    let mut values: Vec<Metrics> = Vec::with_capacity(BATCHES);
-    for b in 0..BATCHES {
-        let (start, end) = (t_s + b as f64 * length, t_s + (b + 1) as f64 * length);
-        // From τ before the batch (the averaged bit speed looks back), to its end.
-        let first = t.partition_point(|&x| x < start - config.speed_average);
-        let last = t
-            .partition_point(|&x| x <= end * (1.0 + 1e-15))
-            .max(first + 1);
-        let sub = series.slice(first..last);
-        let batch = MetricsConfig {
-            settling_time: (start - sub.t[0]).max(0.0),
-            ..config.clone()
-        };
-        values.push(compute(&sub, &batch)?);
-    }
+    let t_end = series.t[series.len() - 1];
+    let mut online = super::OnlineMetrics::new(config.clone(), t_end)?;
+    super::feed(series, &mut online);
+    online.batch_intervals().ok_or(MetricsError::BatchTooShort)
+}
+
+/// The intervals of [`MEAN_METRICS`] from the metrics of the [`BATCHES`] batches.
+pub(super) fn intervals(values: &[Metrics]) -> BTreeMap<&'static str, BatchInterval> {
     let n = BATCHES as f64;
-    Ok(MEAN_METRICS
+    MEAN_METRICS
         .iter()
         .map(|&(key, get)| {
             let v: Vec<f64> = values.iter().map(get).collect();
@@ -85,5 +74,5 @@ pub fn batch_means(
                 },
             )
         })
-        .collect())
+        .collect()
 }

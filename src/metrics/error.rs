@@ -37,6 +37,10 @@ pub enum MetricsError {
         run_length: f64,
         samples: usize,
     },
+    #[error(
+        "a batch of the confidence intervals holds fewer than two samples (or the run did not end where its batches were laid out)"
+    )]
+    BatchTooShort,
     #[error("metrics configuration `{field}` = {value}: {expected}")]
     InvalidConfig {
         field: &'static str,

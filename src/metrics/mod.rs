@@ -26,6 +26,7 @@
 mod batch_means;
 mod check;
 mod error;
+mod online;
 mod time_average;
 
 #[cfg(test)]
@@ -35,11 +36,10 @@ mod tests_off_bottom;
 
 pub use batch_means::{BATCHES, BatchInterval, batch_means};
 pub use error::MetricsError;
+pub use online::OnlineMetrics;
 
 use crate::sim::TimeSeries;
 use serde::Serialize;
-use std::f64::consts::PI;
-use time_average as ta;
 
 /// Energy floor in the denominator of the energy-balance residual, J: far below any drilling
 /// energy, it only keeps a run with no net input work from dividing by zero.
@@ -273,6 +273,46 @@ pub struct Metrics {
 }
 
 impl Metrics {
+    /// Every metric NaN (the fields a computation fills are then set).
+    fn unset() -> Self {
+        let n = f64::NAN;
+        Metrics {
+            mean_rop_m_s: n,
+            mean_rop_m_per_h: n,
+            stick_slip_severity: n,
+            stick_slip_severity_raw: n,
+            stick_fraction: n,
+            max_bit_speed_ratio: n,
+            bit_bounce_fraction: n,
+            axial_velocity_fluctuation: n,
+            impacts_per_s: n,
+            peak_wall_force_n: n,
+            contact_impulse_ns: n,
+            max_radial_over_gap: n,
+            mean_wob_n: n,
+            mean_tob_nm: n,
+            mse_pa: n,
+            efficiency: n,
+            axial_power_share: n,
+            energy_balance_residual: n,
+            max_von_mises_pa: n,
+            max_von_mises_at_m: n,
+            von_mises_safety_factor: n,
+            von_mises_utilization: n,
+            max_compression_n: n,
+            max_torque_nm: n,
+            fatigue_damage_per_h: n,
+            fatigue_life_h: n,
+            fatigue_worst_at_m: n,
+            buckling_utilization: n,
+            helical_buckling_utilization: n,
+            buckling_margin: n,
+            buckling_at_m: n,
+            critical_speed_margin: n,
+            critical_speed_proximity: n,
+        }
+    }
+
     /// These metrics with the stress metrics of `envelope` (see the fields), against the pipe's
     /// yield strength if known.
     pub fn with_stresses(
@@ -375,161 +415,30 @@ pub fn of_run(
 /// Compute the metrics of `series` (see [`Metrics`] for the definitions). The stress metrics
 /// need the run's envelope: they are NaN here (see [`of_run`]). Refuses an invalid
 /// configuration, an empty or inconsistent series (unequal channel lengths, non-finite samples,
-/// times not strictly increasing) and an analysis window with fewer than two samples.
+/// times not strictly increasing) and an analysis window with fewer than two samples. The
+/// samples go through [`OnlineMetrics`], the accumulators a streamed run uses.
 pub fn compute(series: &TimeSeries, config: &MetricsConfig) -> Result<Metrics, MetricsError> {
     config.validate()?;
     check::check_series(series)?;
-    let n = series.len();
-    let t_start = series.t[0];
-    let t_end = series.t[n - 1];
-    let t0 = t_start + config.settling_time;
-    let i0 = series.t.partition_point(|&t| t < t0);
-    if n - i0 < 2 {
-        return Err(MetricsError::WindowTooShort {
-            settling_time: config.settling_time,
-            run_length: t_end - t_start,
-            samples: n - i0,
-        });
+    let mut online = OnlineMetrics::new(config.clone(), f64::NAN)?;
+    feed(series, &mut online);
+    online.metrics()
+}
+
+/// Every sample of `series`, in order, into `sink`.
+fn feed(series: &TimeSeries, sink: &mut impl crate::sim::Sink) {
+    let mut probes = vec![0.0; series.probe_radial.len()];
+    for i in 0..series.len() {
+        sink.record(&series.row(i, &mut probes));
     }
-    let last = n - 1;
-    let t = &series.t[i0..];
-    let window = ta::duration(t);
-    let omega = config.omega;
-
-    let mean_rop = (series.bit_displacement[last] - series.bit_displacement[i0]) / window;
-
-    let averaged = averaged_speed(series, i0, config.speed_average);
-    let theta_dot = &averaged[..];
-    let (max_spin, min_spin) = (ta::max(theta_dot), ta::min(theta_dot));
-    let stick_speed = config.stick_threshold * omega;
-
-    let mean_wob = ta::mean(t, &series.weight_on_bit[i0..]);
-    let mean_tob = ta::mean(t, &series.torque_on_bit[i0..]);
-    let bit_area = PI * config.borehole_radius * config.borehole_radius;
-    // No feed, no rock cut: an off-bottom window's elastic axial motion is not drilling.
-    let mse = if config.v0 > 0.0 && mean_rop > 0.0 {
-        let revs_per_s = omega / (2.0 * PI);
-        mean_wob / bit_area + 2.0 * PI * revs_per_s * mean_tob / (bit_area * mean_rop)
-    } else {
-        f64::INFINITY
-    };
-
-    let top_work = series.work_top[last] - series.work_top[i0];
-    let rock_work = -(series.work_bit[last] - series.work_bit[i0]);
-    let stored = (series.kinetic_energy[last] + series.potential_energy[last])
-        - (series.kinetic_energy[i0] + series.potential_energy[i0]);
-    let spent = top_work - stored;
-    let efficiency = if spent > 0.0 { rock_work / spent } else { 0.0 };
-    let axial_power: Vec<f64> = (i0..n)
-        .map(|i| series.weight_on_bit[i] * series.bit_velocity[i])
-        .collect();
-    let torsional_power: Vec<f64> = (i0..n)
-        .map(|i| series.torque_on_bit[i] * series.bit_angular_velocity[i])
-        .collect();
-    let axial_work = ta::integral(t, &axial_power);
-    let bit_work = axial_work + ta::integral(t, &torsional_power);
-    let axial_power_share = if bit_work > 0.0 {
-        axial_work / bit_work
-    } else {
-        0.0
-    };
-
-    let onsets = series.contact_onsets[last] as f64 - series.contact_onsets[i0] as f64;
-
-    Ok(Metrics {
-        mean_rop_m_s: mean_rop,
-        mean_rop_m_per_h: crate::units::to_m_per_h(mean_rop),
-        stick_slip_severity: (max_spin - min_spin) / (2.0 * omega),
-        stick_slip_severity_raw: {
-            let raw = &series.bit_angular_velocity[i0..];
-            (ta::max(raw) - ta::min(raw)) / (2.0 * omega)
-        },
-        stick_fraction: ta::share(t, theta_dot, |v| v < stick_speed),
-        max_bit_speed_ratio: max_spin / omega,
-        // Off-bottom rotation is off bottom by definition: the WOB of its elastic axial motion
-        // is round-off (1e-9 N on the tiny string), and its sign would decide the share.
-        bit_bounce_fraction: if config.v0 > 0.0 {
-            ta::share(t, &series.weight_on_bit[i0..], |v| v <= 0.0)
-        } else {
-            1.0
-        },
-        axial_velocity_fluctuation: relative_to_feed(
-            ta::std_dev(t, &series.bit_velocity[i0..]),
-            config.v0,
-        ),
-        impacts_per_s: onsets / window,
-        peak_wall_force_n: ta::max(&series.wall_force_max[i0..]),
-        contact_impulse_ns: ta::integral(t, &series.wall_force_total[i0..]),
-        max_radial_over_gap: ta::max(&series.max_radial_over_gap[i0..]),
-        mean_wob_n: mean_wob,
-        mean_tob_nm: mean_tob,
-        mse_pa: mse,
-        efficiency,
-        axial_power_share,
-        energy_balance_residual: energy_balance_residual(series),
-        max_von_mises_pa: f64::NAN,
-        max_von_mises_at_m: f64::NAN,
-        von_mises_safety_factor: f64::NAN,
-        von_mises_utilization: f64::NAN,
-        max_compression_n: f64::NAN,
-        max_torque_nm: f64::NAN,
-        fatigue_damage_per_h: f64::NAN,
-        fatigue_life_h: f64::NAN,
-        fatigue_worst_at_m: f64::NAN,
-        buckling_utilization: f64::NAN,
-        helical_buckling_utilization: f64::NAN,
-        buckling_margin: f64::NAN,
-        buckling_at_m: f64::NAN,
-        critical_speed_margin: f64::NAN,
-        critical_speed_proximity: f64::NAN,
-    })
 }
 
 /// A fluctuation `std` (m/s) relative to the feed `v0`: std / V0; at V0 = 0 (off bottom), 0 for
 /// a bit at rest axially and +∞ for any axial motion, as x/0 in the extended reals.
-fn relative_to_feed(std: f64, v0: f64) -> f64 {
+pub(crate) fn relative_to_feed(std: f64, v0: f64) -> f64 {
     match (v0 > 0.0, std > 0.0) {
         (true, _) => std / v0,
         (false, false) => 0.0,
         (false, true) => f64::INFINITY,
     }
-}
-
-/// The bit speed averaged over the last τ at each sample from `i0` on:
-/// ω̄(tᵢ) = (θ(tᵢ) − θ(tᵢ − τ)) / τ, θ interpolated linearly between samples (from the first
-/// sample when tᵢ − τ precedes it); the raw speed when τ = 0 or at the first sample.
-fn averaged_speed(s: &TimeSeries, i0: usize, tau: f64) -> Vec<f64> {
-    if tau == 0.0 {
-        return s.bit_angular_velocity[i0..].to_vec();
-    }
-    let (t, theta) = (&s.t, &s.bit_rotation);
-    let mut j = 0; // t[j] ≤ tᵢ − τ < t[j + 1], advancing with i
-    (i0..t.len())
-        .map(|i| {
-            let back = t[i] - tau;
-            if back <= t[0] {
-                return if i == 0 {
-                    s.bit_angular_velocity[0]
-                } else {
-                    (theta[i] - theta[0]) / (t[i] - t[0])
-                };
-            }
-            while t[j + 1] <= back {
-                j += 1;
-            }
-            let w = (back - t[j]) / (t[j + 1] - t[j]);
-            let theta_back = theta[j] + w * (theta[j + 1] - theta[j]);
-            (theta[i] - theta_back) / tau
-        })
-        .collect()
-}
-
-/// |W_in − (ΔE_k + ΔE_p + ΔD)| / max(|ΔW_top|, |ΔW_bit|, floor) from the first to the last sample.
-fn energy_balance_residual(s: &TimeSeries) -> f64 {
-    let delta = |ch: &[f64]| ch[ch.len() - 1] - ch[0];
-    let work_in = delta(&s.work_top) + delta(&s.work_bit);
-    let stored_and_lost =
-        delta(&s.kinetic_energy) + delta(&s.potential_energy) + delta(&s.dissipated);
-    let gross = delta(&s.work_top).abs().max(delta(&s.work_bit).abs());
-    (work_in - stored_and_lost).abs() / gross.max(ENERGY_FLOOR_J)
 }

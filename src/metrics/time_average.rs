@@ -34,6 +34,7 @@ pub(crate) fn std_dev(t: &[f64], y: &[f64]) -> f64 {
 /// Share of time in [0, 1] during which `condition` holds: the trapezoid rule applied to the
 /// indicator of the condition, so an interval whose two ends disagree counts for half its length
 /// (the error is at most half a step per change of state).
+#[cfg(test)] // the streamed accumulators (`online`) fold the same way
 pub(crate) fn share(t: &[f64], y: &[f64], condition: impl Fn(f64) -> bool) -> f64 {
     let indicator: Vec<f64> = y
         .iter()
@@ -43,11 +44,13 @@ pub(crate) fn share(t: &[f64], y: &[f64], condition: impl Fn(f64) -> bool) -> f6
 }
 
 /// Largest sample value (no interpolation between samples).
+#[cfg(test)] // the streamed accumulators (`online`) fold the same way
 pub(crate) fn max(y: &[f64]) -> f64 {
     y.iter().copied().fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// Smallest sample value (no interpolation between samples).
+#[cfg(test)] // the streamed accumulators (`online`) fold the same way
 pub(crate) fn min(y: &[f64]) -> f64 {
     y.iter().copied().fold(f64::INFINITY, f64::min)
 }

@@ -51,7 +51,7 @@ pub fn write_json_atomic<T: Serialize + ?Sized>(path: &Path, value: &T) -> io::R
 
 /// A new temporary file in `dir`, with the permissions a plain `File::create` would give
 /// (0o666 less the umask): tempfile's own default, 0o600, would make every result private.
-fn temp_file(dir: &Path) -> io::Result<NamedTempFile> {
+pub(super) fn temp_file(dir: &Path) -> io::Result<NamedTempFile> {
     let mut builder = tempfile::Builder::new();
     #[cfg(unix)]
     {
@@ -64,7 +64,7 @@ fn temp_file(dir: &Path) -> io::Result<NamedTempFile> {
 /// `e` with its message prefixed by `path`: "path: message". tempfile appends the temporary
 /// file's own path (" at path …") to errors of its creation; the destination is what a user
 /// knows, so that suffix is dropped.
-fn at(path: &Path, e: &io::Error) -> io::Error {
+pub(super) fn at(path: &Path, e: &io::Error) -> io::Error {
     let message = e.to_string();
     let message = message.split(" at path ").next().unwrap_or(&message);
     io::Error::new(e.kind(), format!("{}: {message}", path.display()))
@@ -72,7 +72,7 @@ fn at(path: &Path, e: &io::Error) -> io::Error {
 
 /// Makes the rename durable. Best effort: some filesystems refuse to fsync a directory, and the
 /// file's contents are already safe.
-fn sync_dir(dir: &Path) {
+pub(super) fn sync_dir(dir: &Path) {
     #[cfg(unix)]
     if let Ok(d) = fs::File::open(dir) {
         let _ = d.sync_all();

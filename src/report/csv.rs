@@ -10,12 +10,15 @@
 //! samples of `t`; a channel shorter than `t` (which the simulator never records) gets empty
 //! fields rather than a panic.
 
-use std::io;
-use std::path::Path;
+use std::fs;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
 
-use crate::sim::{CHANNELS, TimeSeries};
+use tempfile::NamedTempFile;
 
-use super::atomic::write_atomic;
+use crate::sim::{CHANNELS, Row, Sink, TimeSeries};
+
+use super::atomic::{at, sync_dir, temp_file, write_atomic};
 
 enum Values<'a> {
     Real(&'a [f64]),
@@ -97,6 +100,117 @@ pub fn timeseries_csv(series: &TimeSeries) -> String {
         out.push('\n');
     }
     out
+}
+
+/// The CSV header line (without its line end) of a run with probes at `probes` (m).
+fn header(probes: &[f64]) -> String {
+    columns(&TimeSeries {
+        probe_positions: probes.to_vec(),
+        ..TimeSeries::default()
+    })
+    .into_iter()
+    .map(|(name, _)| name)
+    .collect::<Vec<_>>()
+    .join(",")
+}
+
+/// `timeseries.csv` written while the run goes: a [`Sink`] that formats each row it is given
+/// into a reused line buffer and writes it through a buffered writer to a temporary file in the
+/// destination's directory; [`CsvStream::finish`] flushes, fsyncs and renames it over the
+/// destination (see [`super::atomic`]), so a run that dies leaves no half file under the final
+/// name. The first I/O error stops the run (the sink returns `false`) and is returned by
+/// `finish`, naming the destination path. The rows and the header are those of
+/// [`timeseries_csv`], byte for byte.
+pub struct CsvStream {
+    path: PathBuf,
+    dir: PathBuf,
+    file: Option<io::BufWriter<NamedTempFile>>,
+    line: String,
+    error: Option<io::Error>,
+}
+
+impl CsvStream {
+    /// Create the temporary file for `path` (creating missing directories) and write the header
+    /// of a run with probes at `probes` (m).
+    pub fn create(path: &Path, probes: &[f64]) -> io::Result<Self> {
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        fs::create_dir_all(&dir).map_err(|e| at(&dir, &e))?;
+        let tmp = temp_file(&dir).map_err(|e| at(path, &e))?;
+        let mut stream = CsvStream {
+            path: path.to_path_buf(),
+            dir,
+            file: Some(io::BufWriter::with_capacity(1 << 20, tmp)),
+            line: String::with_capacity(1024),
+            error: None,
+        };
+        stream.line = header(probes);
+        stream.line.push('\n');
+        stream.write_line();
+        match stream.error.take() {
+            Some(e) => Err(e),
+            None => Ok(stream),
+        }
+    }
+
+    fn write_line(&mut self) {
+        if let Some(f) = &mut self.file
+            && let Err(e) = f.write_all(self.line.as_bytes())
+        {
+            self.error = Some(at(&self.path, &e));
+            self.file = None; // dropping the temporary file deletes it
+        }
+    }
+
+    /// Flush, fsync and rename the file over the destination; the first error of the run, if
+    /// any (the temporary file is then removed and the destination untouched).
+    pub fn finish(self) -> io::Result<()> {
+        if let Some(e) = self.error {
+            return Err(e);
+        }
+        let Some(writer) = self.file else {
+            return Ok(());
+        };
+        let tmp = writer.into_inner().map_err(|e| at(&self.path, e.error()))?;
+        tmp.as_file().sync_all().map_err(|e| at(&self.path, &e))?;
+        tmp.persist(&self.path)
+            .map_err(|e| at(&self.path, &e.error))?;
+        sync_dir(&self.dir);
+        Ok(())
+    }
+}
+
+impl Sink for CsvStream {
+    fn record(&mut self, row: &Row<'_>) -> bool {
+        if self.error.is_some() {
+            return false;
+        }
+        self.line.clear();
+        for (k, &v) in row.values.iter().enumerate() {
+            if k > 0 {
+                self.line.push(',');
+            }
+            write_real(&mut self.line, v);
+            // The contact counts sit after the top-drive loads (see `columns`).
+            if CHANNELS[k].name == "top_torque" {
+                self.line.push(',');
+                self.line
+                    .push_str(itoa::Buffer::new().format(row.nodes_in_contact));
+                self.line.push(',');
+                self.line
+                    .push_str(itoa::Buffer::new().format(row.contact_onsets));
+            }
+        }
+        for &r in row.probe_radial {
+            self.line.push(',');
+            write_real(&mut self.line, r);
+        }
+        self.line.push('\n');
+        self.write_line();
+        self.error.is_none()
+    }
 }
 
 /// Writes [`timeseries_csv`] to `path` atomically.
@@ -295,5 +409,40 @@ mod tests {
         let s = small_series();
         write_timeseries_csv(&path, &s).unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), timeseries_csv(&s));
+    }
+
+    #[test]
+    fn the_stream_writes_the_in_memory_text_and_only_at_finish() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("run/series.csv");
+        let s = small_series();
+        let mut stream = CsvStream::create(&path, &s.probe_positions).unwrap();
+        let mut probes = vec![0.0; s.probe_radial.len()];
+        for i in 0..s.len() {
+            assert!(stream.record(&s.row(i, &mut probes)));
+        }
+        // Nothing under the final name before the end (a crash leaves no half file).
+        assert!(!path.exists());
+        stream.finish().unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), timeseries_csv(&s));
+        let names: Vec<_> = std::fs::read_dir(dir.path().join("run")).unwrap().collect();
+        assert_eq!(names.len(), 1, "no temporary file left");
+    }
+
+    #[test]
+    fn a_stream_dropped_unfinished_leaves_nothing_and_errors_name_the_path() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("series.csv");
+        drop(CsvStream::create(&path, &[]).unwrap());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        // A file where the directory should be.
+        std::fs::write(dir.path().join("f"), b"").unwrap();
+        let bad = dir.path().join("f/series.csv");
+        let e = CsvStream::create(&bad, &[]).err().unwrap();
+        assert!(
+            e.to_string()
+                .contains(&dir.path().join("f").display().to_string()),
+            "{e}"
+        );
     }
 }

@@ -173,6 +173,31 @@ pub struct RunOutput<S = TimeSeries> {
     pub envelope: StressEnvelope,
 }
 
+impl<S> RunOutput<S> {
+    /// The sink, and the rest of the outcome.
+    pub fn split(self) -> (S, RunOutput<()>) {
+        let RunOutput {
+            series,
+            stats,
+            error,
+            final_state,
+            basis,
+            max_step,
+            envelope,
+        } = self;
+        let rest = RunOutput {
+            series: (),
+            stats,
+            error,
+            final_state,
+            basis,
+            max_step,
+            envelope,
+        };
+        (series, rest)
+    }
+}
+
 /// Static equilibrium under gravity with wall contact (no motion, no bit): Newton on ∂r/∂q with
 /// each update limited to half the radial gap at any node.
 pub fn static_equilibrium(model: &ReducedModel) -> Result<(DVector<f64>, usize), SimulationError> {

@@ -15,6 +15,7 @@ pub use crate::model::SampleInterval;
 /// A [`Sink`] that passes the states at t = k·Δ to `sink`, interpolated between the accepted
 /// steps it is given (see the module documentation). Its buffers are sized at construction.
 pub struct Sampler<S> {
+    /// Δ, s; NaN: every step passes through.
     interval: f64,
     /// Index k of the next sample time k·Δ.
     next: u64,
@@ -26,12 +27,16 @@ pub struct Sampler<S> {
 }
 
 impl<S: Sink> Sampler<S> {
-    /// Samples every `interval` s (> 0, finite) for a run with `probes` radial probes.
-    pub fn new(interval: f64, probes: usize, sink: S) -> Self {
-        assert!(
-            interval > 0.0 && interval.is_finite(),
-            "sample interval {interval}"
-        );
+    /// Samples at `interval` (a fixed Δ > 0, finite; or every step, passed through unchanged)
+    /// for a run with `probes` radial probes.
+    pub fn new(interval: SampleInterval, probes: usize, sink: S) -> Self {
+        let interval = match interval {
+            SampleInterval::Fixed(dt) => {
+                assert!(dt > 0.0 && dt.is_finite(), "sample interval {dt}");
+                dt
+            }
+            SampleInterval::EveryStep => f64::NAN,
+        };
         Sampler {
             interval,
             next: 0,
@@ -49,7 +54,7 @@ impl<S: Sink> Sampler<S> {
     /// The sink, after emitting a last sample that rounding of k·Δ put just past the final step
     /// (within 10⁻⁹ Δ): it takes the final step's values and time.
     pub fn finish(mut self) -> S {
-        if let Some((values, nodes, onsets)) = self.prev {
+        if let (false, Some((values, nodes, onsets))) = (self.interval.is_nan(), self.prev) {
             let t_last = values[at::T];
             if self.time(self.next) <= t_last + 1e-9 * self.interval {
                 self.sink.record(&Row {
@@ -66,6 +71,9 @@ impl<S: Sink> Sampler<S> {
 
 impl<S: Sink> Sink for Sampler<S> {
     fn record(&mut self, row: &Row<'_>) -> bool {
+        if self.interval.is_nan() {
+            return self.sink.record(row);
+        }
         let t_b = row.t();
         let mut go_on = true;
         match self.prev {
@@ -138,7 +146,11 @@ mod tests {
     }
 
     fn run(times: &[f64], dt: f64) -> TimeSeries {
-        let mut sampler = Sampler::new(dt, 1, TimeSeries::with_probes(&[5.0], 0));
+        let mut sampler = Sampler::new(
+            SampleInterval::Fixed(dt),
+            1,
+            TimeSeries::with_probes(&[5.0], 0),
+        );
         for (i, &t) in times.iter().enumerate() {
             assert!(sampler.record(&row(t, i as u64, &[2.0 - t])));
         }
@@ -192,9 +204,26 @@ mod tests {
     }
 
     #[test]
+    fn every_step_passes_each_row_through() {
+        let mut sampler = Sampler::new(
+            SampleInterval::EveryStep,
+            1,
+            TimeSeries::with_probes(&[5.0], 0),
+        );
+        for (i, t) in [0.0, 0.13, 0.5].into_iter().enumerate() {
+            sampler.record(&row(t, i as u64, &[2.0 - t]));
+        }
+        assert_eq!(sampler.finish().t, vec![0.0, 0.13, 0.5]);
+    }
+
+    #[test]
     fn interpolates_a_quadratic_within_the_linear_bound() {
         // y = t² on steps of 0.1: linear interpolation errs by at most h²/8 · 2 = 0.0025.
-        let mut sampler = Sampler::new(0.03, 0, TimeSeries::with_probes(&[], 0));
+        let mut sampler = Sampler::new(
+            SampleInterval::Fixed(0.03),
+            0,
+            TimeSeries::with_probes(&[], 0),
+        );
         for i in 0..=10 {
             let t = i as f64 * 0.1;
             let mut r = row(t, 0, &[0.0]);
