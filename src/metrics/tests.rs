@@ -2,6 +2,7 @@
 
 use super::*;
 use approx::assert_relative_eq;
+use std::f64::consts::PI;
 
 const OMEGA: f64 = 10.0;
 const V0: f64 = 0.01;

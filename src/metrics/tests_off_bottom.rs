@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::sim::TimeSeries;
+use std::f64::consts::PI;
 
 const OMEGA: f64 = 10.0;
 

@@ -120,7 +120,9 @@ pub struct Simulation {
     /// The state a run starts from.
     pub start: Start,
     /// The interval of the written time history (`simulate`'s `timeseries.csv` and plots); the
-    /// metrics read every accepted step whatever it is.
+    /// metrics read every accepted step whatever it is. Not part of the canonical form (cache
+    /// keys): no simulated number depends on it.
+    #[serde(skip)]
     pub sample_interval: SampleInterval,
 }
 

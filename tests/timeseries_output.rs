@@ -1,0 +1,143 @@
+//! Issue 16 item 5, time-series output that scales: `simulation.sample_interval` and
+//! `--sample-interval` are read or refused naming the file (or flag) and the key; `simulate`
+//! writes ⌊duration/Δ⌋ + 1 rows at t = kΔ, or one row per accepted step with `step`, and the
+//! metrics do not depend on the written interval (they read every accepted step).
+
+mod common;
+
+use common::simulate_tiny as simulate;
+use drillopt::problem::{Problem, ProblemError};
+use drillopt::sim::SampleInterval;
+use std::path::Path;
+
+const FILE: &str = "problems/seed_mc2014.toml";
+const SEED: &str = include_str!("../problems/seed_mc2014.toml");
+
+/// The seed with `key = value` added under `[simulation]`.
+fn with_interval(value: &str) -> Result<Problem, ProblemError> {
+    let text = SEED.replacen(
+        "[simulation]\n",
+        &format!("[simulation]\nsample_interval = {value}\n"),
+        1,
+    );
+    Problem::from_toml(&text, Path::new(FILE))
+}
+
+#[test]
+fn the_key_reads_a_time_or_step_and_defaults_to_half_a_millisecond() {
+    let seed = Problem::from_toml(SEED, Path::new(FILE)).unwrap();
+    assert_eq!(seed.simulation.sample_interval, SampleInterval::Fixed(5e-4));
+    let p = with_interval("\"0.25 ms\"").unwrap();
+    assert_eq!(p.simulation.sample_interval, SampleInterval::Fixed(2.5e-4));
+    let p = with_interval("\"step\"").unwrap();
+    assert_eq!(p.simulation.sample_interval, SampleInterval::EveryStep);
+}
+
+#[test]
+fn the_key_refuses_zero_negative_wrong_units_and_out_of_range() {
+    for (value, words) in [
+        ("0", &["> 0"][..]),
+        ("\"-1 ms\"", &["> 0"][..]),
+        ("\"2 m\"", &["unit"][..]),
+        ("\"2 s\"", &["1 µs and 1 s"][..]),
+        ("\"0.5 us\"", &["1 µs and 1 s"][..]),
+        ("\"steps\"", &[][..]),
+    ] {
+        let e = with_interval(value).expect_err(value);
+        let msg = e.to_string();
+        assert!(msg.contains(FILE), "{value}: {msg}");
+        assert!(
+            msg.contains("`simulation.sample_interval`"),
+            "{value}: {msg}"
+        );
+        for w in words {
+            assert!(msg.contains(w), "{value}: lacks {w:?}: {msg}");
+        }
+    }
+}
+
+fn rows(dir: &Path) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
+    let mut lines = text.lines();
+    assert!(lines.next().unwrap().starts_with("t_s,"));
+    lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn simulate_writes_duration_over_interval_rows_and_the_same_metrics() {
+    let (fixed, every) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    let out = simulate(
+        &["--duration", "0.6s", "--sample-interval", "2ms"],
+        fixed.path(),
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r = rows(fixed.path());
+    assert_eq!(r.len(), 301, "0.6 s / 2 ms + 1 rows");
+    for (k, row) in r.iter().enumerate() {
+        assert_eq!(row[0], k as f64 * 2e-3, "row {k} at t = k Δ");
+    }
+    let out = simulate(
+        &["--duration", "0.6s", "--sample-interval", "step"],
+        every.path(),
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let all = rows(every.path());
+    let (a, b) = (summary(fixed.path()), summary(every.path()));
+    assert_eq!(all.len() as u64, b["solver"]["steps"].as_u64().unwrap() + 1);
+    assert_eq!(a["metrics"], b["metrics"], "metrics read every step");
+    assert_eq!(a["confidence_95"], b["confidence_95"]);
+    // The first and last rows are the first and last accepted steps.
+    assert_eq!(r[0], all[0]);
+    assert_eq!(r[300], all[all.len() - 1]);
+    // A row inside the run lies on the straight line between the steps around it.
+    let s = r[150][0];
+    let j = all.iter().position(|row| row[0] >= s).unwrap();
+    let (p, q) = (&all[j - 1], &all[j]);
+    let w = (s - p[0]) / (q[0] - p[0]);
+    let got = &r[150];
+    for c in 1..got.len() {
+        if c == 9 || c == 10 {
+            continue; // the counts are held from the step before
+        }
+        let want = p[c] + w * (q[c] - p[c]);
+        assert!(
+            (got[c] - want).abs() <= 1e-12 * want.abs().max(1e-300),
+            "column {c}"
+        );
+    }
+}
+
+#[test]
+fn the_flag_refuses_a_bad_interval_naming_the_flag_and_key() {
+    let dir = tempfile::tempdir().unwrap();
+    for bad in ["0ms", "-1ms", "3kg", "5s"] {
+        let out = simulate(
+            &["--duration", "0.6s", "--sample-interval", bad],
+            dir.path(),
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_ne!(out.status.code(), Some(0), "{bad}");
+        assert!(stderr.contains("--sample-interval"), "{bad}: {stderr}");
+        assert!(
+            stderr.contains("simulation.sample_interval"),
+            "{bad}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{bad}: {stderr}");
+    }
+}
