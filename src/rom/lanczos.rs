@@ -210,9 +210,8 @@ pub fn sparse_generalized_eigen(
             let diag_max = |a: &SymmetricSparse| (0..n).map(|i| a.get(i, i)).fold(0.0, f64::max);
             let sigma = -1e-8 * diag_max(k) / diag_max(m);
             let shifted = shifted(k, m, sigma);
-            let l = SparseCholesky::new(&shifted)
-                .map_err(|pivot| EigenError::StiffnessNotPositive { pivot })?;
-            l
+            SparseCholesky::new(&shifted)
+                .map_err(|pivot| EigenError::StiffnessNotPositive { pivot })?
         }
     };
     let op = ShiftInvert { l: &l, m };
@@ -262,7 +261,8 @@ pub fn sparse_generalized_eigen(
     for (j, &lambda) in values.iter().enumerate() {
         let r = (kphi.col(j) - mphi.col(j) * lambda).norm_l2();
         let scale = (norm_k + lambda.abs() * norm_m) * vectors.col(j).norm_l2();
-        if !(r <= RESIDUAL_TOLERANCE * scale) {
+        // NaN fails too.
+        if r.is_nan() || r > RESIDUAL_TOLERANCE * scale {
             return Err(EigenError::NoConvergence {
                 converged: j,
                 asked: count,
