@@ -1,19 +1,22 @@
 //! Assembly and modal solve of the seed configuration (105 elements, 636 DOF), and the element
 //! kernels of the time-step loop (strain and inertial forces of one element).
 //!
-//! `cargo bench --bench fem`. The modal solve is benched both as drillopt does it (four decoupled
+//! `cargo bench --bench fem`. `-- modes_` benches the basis of a 2000-element mesh (sparse
+//! assembly and Lanczos) and one 799-DOF bending block dense against Lanczos.
+//! The modal solve is benched both as drillopt does it (four decoupled
 //! family blocks) and as one dense generalized eigenproblem on all 628 free DOFs, for comparison.
 //! The element kernels (`cargo bench --bench fem -- element_`) are benched next to the dense path
 //! they replaced: G d, Gᵀ ∂W/∂g, Gᵀ H G and the inertia rows through nalgebra's generic products
 //! on the dense operators, rebuilt here from the public interpolation, Gauss point by point.
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use drillopt::fem::Dof;
 use drillopt::fem::{
     BeamElement, BoundaryConditions, ElementInertia, ElementMatrix, ElementStrains, ElementVector,
     STRAIN_VARS, StrainEnergy, assemble, gauss_legendre_4,
 };
 use drillopt::problem::Problem;
-use drillopt::rom::{ModalBasis, generalized_symmetric_eigen};
+use drillopt::rom::{ModalBasis, generalized_symmetric_eigen, sparse_generalized_eigen};
 use faer::Par;
 use nalgebra::{SMatrix, Vector3};
 use std::hint::black_box;
@@ -175,6 +178,30 @@ fn benches(c: &mut Criterion) {
     let bc = BoundaryConditions::drillstring(n);
     c.bench_function("modes_seed_51_of_636dof", |b| {
         b.iter(|| ModalBasis::lowest(black_box(&global), &bc, 51, Par::Seq).unwrap())
+    });
+
+    // Long meshes (issue 13 item 6): the basis of the problem by sparse assembly and Lanczos, and
+    // one bending block of 799 DOFs (400 elements, just under LANCZOS_MIN_BLOCK) dense and by
+    // Lanczos, which sets the threshold.
+    c.bench_function("modes_long_2000_elements_default_basis", |b| {
+        b.iter(|| ModalBasis::compute(black_box(&p.model), 2000, &p.mesh.basis).unwrap())
+    });
+    let long = drillopt::fem::assemble_sparse(&p.model, 400);
+    let bending: Vec<usize> = BoundaryConditions::drillstring(400)
+        .free_dofs()
+        .into_iter()
+        .filter(|&i| matches!(Dof::of_index(i), Dof::V | Dof::ThetaZ))
+        .collect();
+    let (kb, mb) = (
+        long.stiffness.submatrix(&bending),
+        long.mass.submatrix(&bending),
+    );
+    let (kd, md) = (kb.to_dense(), mb.to_dense());
+    c.bench_function("modes_block_799_dense_16", |b| {
+        b.iter(|| generalized_symmetric_eigen(black_box(kd.as_ref()), md.as_ref(), 16, Par::Seq))
+    });
+    c.bench_function("modes_block_799_lanczos_16", |b| {
+        b.iter(|| sparse_generalized_eigen(black_box(&kb), &mb, 16, Par::Seq))
     });
 
     let (k, m) = (bc.reduce(&global.stiffness), bc.reduce(&global.mass));

@@ -43,18 +43,6 @@ pub enum Command {
     Verify(verify::VerifyArgs),
 }
 
-/// The problem's reduced basis on assembled matrices; a basis that leaves a family empty is
-/// refused naming the file and the key that chose it.
-pub(crate) fn problem_basis(
-    path: &std::path::Path,
-    problem: &crate::problem::Problem,
-    global: &crate::fem::GlobalMatrices,
-    bc: &crate::fem::BoundaryConditions,
-) -> anyhow::Result<crate::rom::ModalBasis> {
-    crate::rom::ModalBasis::of(global, bc, &problem.mesh.basis, faer::Par::Seq)
-        .map_err(|e| basis_error(path, problem, e))
-}
-
 /// A basis error as the user should read it: file, key, what went wrong.
 pub(crate) fn basis_error(
     path: &std::path::Path,

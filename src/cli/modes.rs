@@ -1,6 +1,6 @@
 //! `drillopt modes PROBLEM [--count n] [--json]`.
 
-use crate::fem::{BoundaryConditions, assemble};
+use crate::fem::BoundaryConditions;
 use crate::problem::Problem;
 use crate::rom::{BasisCounts, ModalBasis, Mode, ModeKind};
 use anyhow::Context;
@@ -35,7 +35,7 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let elements = problem.mesh.elements;
     let bc = BoundaryConditions::drillstring(elements);
-    let global = assemble(&problem.model, elements);
+    // Long meshes are assembled sparse and solved by Lanczos (ModalBasis::sparse_mesh).
     let basis = match args.count {
         Some(count) => {
             anyhow::ensure!(
@@ -43,10 +43,11 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
                 "--count must be in [1, {}] (the free DOFs of this mesh), got {count}",
                 bc.free_count()
             );
-            ModalBasis::lowest(&global, &bc, count, faer::Par::Seq)
+            ModalBasis::compute_lowest(&problem.model, elements, count)
                 .with_context(|| format!("modal analysis of {}", args.problem.display()))?
         }
-        None => super::problem_basis(&args.problem, &problem, &global, &bc)?,
+        None => ModalBasis::compute(&problem.model, elements, &problem.mesh.basis)
+            .map_err(|e| super::basis_error(&args.problem, &problem, e))?,
     };
     let report = ModesReport {
         problem: &problem.name,

@@ -15,6 +15,7 @@ mod element;
 mod inertia;
 mod lanes;
 mod shape;
+mod sparse;
 mod strain_energy;
 mod stress;
 #[cfg(test)]
@@ -26,5 +27,6 @@ pub use dof::{DOF_PER_NODE, Dof};
 pub use element::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector};
 pub use inertia::ElementInertia;
 pub use shape::{Interpolation, gauss_legendre_4};
+pub use sparse::{SparseGlobal, SymmetricSparse, assemble_sparse};
 pub use strain_energy::{ElementStrains, STRAIN_VARS, StrainEnergy, Strains};
 pub use stress::{AxialStressField, SectionLoads, SectionStrains, SectionStress};

@@ -4,6 +4,7 @@
 //! A = L⁻¹ K L⁻ᵀ by two triangular solves, A y = λ y (self-adjoint), φ = L⁻ᵀ y. The φ are then
 //! M-orthonormal: φᵢᵀ M φⱼ = δᵢⱼ.
 
+use faer::linalg::cholesky::llt::factor::LltError;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
@@ -12,12 +13,17 @@ use faer::{Mat, MatRef, Par, Side};
 /// Why an eigen-solve failed.
 #[derive(Debug, Clone, thiserror::Error, PartialEq)]
 pub enum EigenError {
+    /// Cholesky of M met a pivot ≤ 0 at row `pivot` (of the matrix solved).
     #[error(
-        "the mass matrix is not positive definite (Cholesky failed): check densities and constraints"
+        "the mass matrix is not positive definite (Cholesky pivot {pivot} not positive): check densities and constraints"
     )]
-    MassNotPositiveDefinite,
-    #[error("the symmetric eigensolver did not converge")]
-    NoConvergence,
+    MassNotPositiveDefinite { pivot: usize },
+    /// Neither K nor K − σM (σ < 0) could be factored: a negative stiffness (sparse solver only).
+    #[error("the stiffness matrix is not positive semi-definite (Cholesky pivot {pivot})")]
+    StiffnessNotPositive { pivot: usize },
+    /// `converged` of the `asked` eigenpairs converged.
+    #[error("the symmetric eigensolver did not converge ({converged} of {asked} eigenpairs)")]
+    NoConvergence { converged: usize, asked: usize },
     #[error("asked for {asked} eigenpairs of a {size}×{size} problem")]
     TooMany { asked: usize, size: usize },
 }
@@ -37,9 +43,11 @@ pub fn generalized_symmetric_eigen(
             size: n,
         });
     }
-    let llt = m
-        .llt(Side::Lower)
-        .map_err(|_| EigenError::MassNotPositiveDefinite)?;
+    let llt = m.llt(Side::Lower).map_err(|e| match e {
+        LltError::NonPositivePivot { index } => {
+            EigenError::MassNotPositiveDefinite { pivot: index }
+        }
+    })?;
     let l = llt.L();
     // X = L⁻¹ K, then A = L⁻¹ Xᵀ = L⁻¹ K L⁻ᵀ (K symmetric).
     let mut x = k.to_owned();
@@ -50,7 +58,10 @@ pub fn generalized_symmetric_eigen(
     let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
     let evd = a
         .self_adjoint_eigen(Side::Lower)
-        .map_err(|_| EigenError::NoConvergence)?;
+        .map_err(|_| EigenError::NoConvergence {
+            converged: 0,
+            asked: count,
+        })?;
     let s = evd.S().column_vector();
     let values: Vec<f64> = (0..count).map(|i| s[i]).collect();
     let mut vectors = evd.U().subcols(0, count).to_owned();
@@ -94,6 +105,6 @@ mod tests {
         let k = Mat::<f64>::identity(2, 2);
         let m = Mat::from_fn(2, 2, |i, j| if i == 0 && j == 0 { 1.0 } else { 0.0 });
         let err = generalized_symmetric_eigen(k.as_ref(), m.as_ref(), 1, Par::Seq).unwrap_err();
-        assert_eq!(err, EigenError::MassNotPositiveDefinite);
+        assert_eq!(err, EigenError::MassNotPositiveDefinite { pivot: 1 });
     }
 }

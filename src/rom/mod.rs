@@ -2,15 +2,19 @@
 
 mod blocks;
 mod eigen;
+mod lanczos;
 mod modes;
 mod operator;
 mod padded;
+mod pencil;
 mod reduced;
 mod sparse;
 
 pub use blocks::{BlockBasis, BlockWork};
 pub use eigen::{EigenError, generalized_symmetric_eigen};
+pub use lanczos::{lanczos_applies, sparse_generalized_eigen};
 pub use modes::{BasisCounts, BasisError, Family, ModalBasis, Mode, ModeKind};
 pub use operator::Operator;
+pub use pencil::LANCZOS_MIN_BLOCK;
 pub use reduced::ReducedModel;
 pub use sparse::SparseBasis;

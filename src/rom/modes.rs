@@ -8,10 +8,13 @@
 //! general: a model that couples the families gives one block and still works. Each mode is
 //! labelled by the family that holds most of its kinetic energy φᵢ (M φ)ᵢ.
 
-use super::eigen::{EigenError, generalized_symmetric_eigen};
-use crate::fem::{BoundaryConditions, DOF_PER_NODE, Dof, GlobalMatrices, assemble};
+use super::eigen::EigenError;
+use super::pencil::{Pencil, bit_loads, solve_block};
+use crate::fem::{
+    BoundaryConditions, Dof, GlobalMatrices, SparseGlobal, assemble, assemble_sparse,
+};
 use crate::model::{BasisSpec, Drillstring, FamilySize};
-use faer::{Mat, MatRef, Par, Side};
+use faer::{Mat, Par};
 use serde::Serialize;
 use std::fmt;
 
@@ -149,28 +152,56 @@ pub struct ModalBasis {
 }
 
 /// A candidate basis vector on the free DOFs of one block.
-struct Candidate {
-    lambda: f64,
-    family: Family,
-    kind: ModeKind,
+pub(super) struct Candidate {
+    pub lambda: f64,
+    pub family: Family,
+    pub kind: ModeKind,
     /// (free-DOF index, value).
-    entries: Vec<(usize, f64)>,
+    pub entries: Vec<(usize, f64)>,
+    /// The coupled block it comes from (blocks in order of their first free DOF).
+    pub block: usize,
 }
 
 impl ModalBasis {
-    /// Assemble the model on `elements` elements and build the basis `spec`.
+    /// Whether the modes of a mesh of `elements` elements are computed from sparse matrices
+    /// ([`crate::fem::assemble_sparse`]) by Lanczos: when its bending blocks (about 2N DOFs) pass
+    /// [`super::LANCZOS_MIN_BLOCK`]. Smaller meshes (every shipped problem) keep the dense path.
+    pub fn sparse_mesh(elements: usize) -> bool {
+        2 * elements > super::LANCZOS_MIN_BLOCK
+    }
+
+    /// Assemble the model on `elements` elements under the drillstring's constraints and build
+    /// the basis `spec` (sparse for long meshes, see [`Self::sparse_mesh`]); refused when a family
+    /// is left without a vector.
     pub fn compute(
         string: &Drillstring,
         elements: usize,
         spec: &BasisSpec,
     ) -> Result<Self, BasisError> {
-        let global = assemble(string, elements);
-        Self::of(
-            &global,
-            &BoundaryConditions::drillstring(elements),
-            spec,
-            Par::Seq,
-        )
+        let bc = BoundaryConditions::drillstring(elements);
+        if Self::sparse_mesh(elements) {
+            Self::of_sparse(&assemble_sparse(string, elements), &bc, spec, Par::Seq)
+        } else {
+            Self::of(&assemble(string, elements), &bc, spec, Par::Seq)
+        }
+    }
+
+    /// The `count` lowest modes of the drillstring on `elements` elements (no family check),
+    /// sparse for long meshes as [`Self::compute`].
+    pub fn compute_lowest(
+        string: &Drillstring,
+        elements: usize,
+        count: usize,
+    ) -> Result<Self, EigenError> {
+        let bc = BoundaryConditions::drillstring(elements);
+        let spec = BasisSpec::Lowest(count);
+        let basis = if Self::sparse_mesh(elements) {
+            let global = assemble_sparse(string, elements);
+            build(&Self::sparse_pencil(&global, &bc), &bc, &spec, Par::Seq)
+        } else {
+            Self::build(&assemble(string, elements), &bc, &spec, Par::Seq)
+        };
+        unwrap_eigen(basis)
     }
 
     /// The `count` lowest modes of assembled matrices (no family check).
@@ -180,11 +211,7 @@ impl ModalBasis {
         count: usize,
         par: Par,
     ) -> Result<Self, EigenError> {
-        match Self::build(global, bc, &BasisSpec::Lowest(count), par) {
-            Ok(b) => Ok(b),
-            Err(BasisError::Eigen(e)) => Err(e),
-            Err(BasisError::EmptyFamily { .. }) => unreachable!("build does not check families"),
-        }
+        unwrap_eigen(Self::build(global, bc, &BasisSpec::Lowest(count), par))
     }
 
     /// The basis `spec` of assembled matrices under the given boundary conditions; refused when
@@ -195,8 +222,32 @@ impl ModalBasis {
         spec: &BasisSpec,
         par: Par,
     ) -> Result<Self, BasisError> {
-        let basis = Self::build(global, bc, spec, par)?;
-        let counts = basis.counts();
+        Self::build(global, bc, spec, par)?.check_families(spec)
+    }
+
+    /// [`Self::of`] on sparse matrices: no dense storage; blocks above
+    /// [`super::LANCZOS_MIN_BLOCK`] DOFs by Lanczos, the others densely (the same modes as
+    /// [`Self::of`] on the same mesh).
+    pub fn of_sparse(
+        global: &SparseGlobal,
+        bc: &BoundaryConditions,
+        spec: &BasisSpec,
+        par: Par,
+    ) -> Result<Self, BasisError> {
+        build(&Self::sparse_pencil(global, bc), bc, spec, par)?.check_families(spec)
+    }
+
+    fn sparse_pencil<'a>(global: &'a SparseGlobal, bc: &BoundaryConditions) -> Pencil<'a> {
+        let free = bc.free_dofs();
+        Pencil::Sparse {
+            k: global.stiffness.submatrix(&free),
+            m: global.mass.submatrix(&free),
+            full_mass: &global.mass,
+        }
+    }
+
+    fn check_families(self, spec: &BasisSpec) -> Result<Self, BasisError> {
+        let counts = self.counts();
         for (family, n) in [
             ("bending", counts.bending),
             ("torsional", counts.torsional),
@@ -210,7 +261,7 @@ impl ModalBasis {
                 });
             }
         }
-        Ok(basis)
+        Ok(self)
     }
 
     fn build(
@@ -219,135 +270,12 @@ impl ModalBasis {
         spec: &BasisSpec,
         par: Par,
     ) -> Result<Self, BasisError> {
-        let k = bc.reduce(&global.stiffness);
-        let m = bc.reduce(&global.mass);
-        let n = k.nrows();
-        let free = bc.free_dofs();
-        let family_of = |r: usize| Family::of(Dof::of_index(free[r]));
-        if let BasisSpec::Lowest(count) = spec
-            && *count > n
-        {
-            return Err(EigenError::TooMany {
-                asked: *count,
-                size: n,
-            }
-            .into());
-        }
-        let mut chosen: Vec<Candidate> = Vec::new();
-        for block in coupled_blocks(k.as_ref(), m.as_ref()) {
-            let sub = |a: &Mat<f64>| {
-                Mat::from_fn(block.len(), block.len(), |i, j| a[(block[i], block[j])])
-            };
-            let (kb, mb) = (sub(&k), sub(&m));
-            // A block whose DOFs are all of one family (the linear operators do not couple them).
-            let family =
-                Some(family_of(block[0])).filter(|f| block.iter().all(|&r| family_of(r) == *f));
-            let size = match (spec, family) {
-                (BasisSpec::Lowest(count), _) => FamilySize::Count(*count),
-                (BasisSpec::PerFamily { .. }, None) => FamilySize::Count(block.len()),
-                (
-                    BasisSpec::PerFamily {
-                        bending,
-                        torsional,
-                        axial,
-                        ..
-                    },
-                    Some(f),
-                ) => match f {
-                    Family::Axial => *axial,
-                    Family::Torsional => *torsional,
-                    Family::BendingY | Family::BendingZ => *bending,
-                },
-            };
-            let take = match size {
-                FamilySize::Count(c) => c.min(block.len()),
-                FamilySize::Cutoff { .. } => block.len(),
-            };
-            let (values, vectors) =
-                generalized_symmetric_eigen(kb.as_ref(), mb.as_ref(), take, par)?;
-            let keep = match size {
-                FamilySize::Count(_) => take,
-                FamilySize::Cutoff { hz, min } => {
-                    let limit = (2.0 * std::f64::consts::PI * hz).powi(2);
-                    values
-                        .iter()
-                        .filter(|&&l| l <= limit)
-                        .count()
-                        .max(min)
-                        .min(take)
-                }
-            };
-            let mut kept: Vec<Candidate> = (0..keep)
-                .map(|c| {
-                    let entries: Vec<(usize, f64)> = block
-                        .iter()
-                        .enumerate()
-                        .map(|(r, &g)| (g, vectors[(r, c)]))
-                        .collect();
-                    Candidate {
-                        lambda: values[c],
-                        family: family
-                            .unwrap_or_else(|| dominant_family(m.as_ref(), &entries, &family_of)),
-                        kind: ModeKind::Normal,
-                        entries,
-                    }
-                })
-                .collect();
-            if let BasisSpec::PerFamily {
-                static_corrections: true,
-                ..
-            } = spec
-            {
-                let loads = [Dof::U, Dof::ThetaX].map(|d| d.at(bc.dof() / DOF_PER_NODE - 1));
-                for g in loads {
-                    if let Some(r) = block.iter().position(|&r| free[r] == g)
-                        && let Some(c) =
-                            static_correction(kb.as_ref(), mb.as_ref(), &vectors, keep, r)
-                    {
-                        kept.push(Candidate {
-                            lambda: c.0,
-                            family: family_of(block[r]),
-                            kind: ModeKind::StaticCorrection,
-                            entries: block
-                                .iter()
-                                .enumerate()
-                                .map(|(i, &g)| (g, c.1[i]))
-                                .collect(),
-                        });
-                    }
-                }
-            }
-            chosen.extend(kept);
-        }
-        chosen.sort_by(|a, b| a.lambda.total_cmp(&b.lambda));
-        if let BasisSpec::Lowest(count) = spec {
-            chosen.truncate(*count);
-        }
-        let count = chosen.len();
-        let mut reduced = Mat::zeros(n, count);
-        for (c, cand) in chosen.iter().enumerate() {
-            for &(r, v) in &cand.entries {
-                reduced[(r, c)] = v;
-            }
-        }
-        let shapes = bc.expand(&reduced);
-        let modes = chosen
-            .iter()
-            .enumerate()
-            .map(|(c, cand)| {
-                let omega = cand.lambda.max(0.0).sqrt();
-                let energy_share = energy_shares(global.mass.as_ref(), shapes.as_ref(), c);
-                Mode {
-                    index: c + 1,
-                    freq_hz: omega / (2.0 * std::f64::consts::PI),
-                    omega,
-                    family: cand.family,
-                    kind: cand.kind,
-                    energy_share,
-                }
-            })
-            .collect();
-        Ok(ModalBasis { modes, shapes })
+        let pencil = Pencil::Dense {
+            k: bc.reduce(&global.stiffness),
+            m: bc.reduce(&global.mass),
+            full_mass: global.mass.as_ref(),
+        };
+        build(&pencil, bc, spec, par)
     }
 
     /// Number of basis vectors.
@@ -380,114 +308,106 @@ impl ModalBasis {
     }
 }
 
-/// The family holding most of the kinetic energy of a free-DOF vector.
-fn dominant_family(
-    m: MatRef<'_, f64>,
-    entries: &[(usize, f64)],
-    family_of: &impl Fn(usize) -> Family,
-) -> Family {
-    let mut share = [0.0; 4];
-    for &(i, a) in entries {
-        let mi: f64 = entries.iter().map(|&(j, b)| m[(i, j)] * b).sum();
-        share[Family::ALL
-            .iter()
-            .position(|f| *f == family_of(i))
-            .unwrap_or(0)] += a * mi;
+fn unwrap_eigen(basis: Result<ModalBasis, BasisError>) -> Result<ModalBasis, EigenError> {
+    match basis {
+        Ok(b) => Ok(b),
+        Err(BasisError::Eigen(e)) => Err(e),
+        Err(BasisError::EmptyFamily { .. }) => unreachable!("build does not check families"),
     }
-    Family::ALL[(0..4)
-        .max_by(|&a, &b| share[a].total_cmp(&share[b]))
-        .unwrap_or(0)]
 }
 
-/// The static correction of a unit load on block DOF `r`: ψ = K⁻¹ e_r, M-orthogonalised (twice,
-/// classical Gram–Schmidt) against the first `keep` columns of the M-orthonormal `modes`, then
-/// M-normalised. Because K φ = λ M φ, ψ is then K-orthogonal to the modes as well, and (ψᵀKψ, ψ)
-/// extends the diagonal reduced operators. `None` when the kept modes already span ψ (relative
-/// M-norm of the remainder below 1e-8) or K is singular.
-fn static_correction(
-    k: MatRef<'_, f64>,
-    m: MatRef<'_, f64>,
-    modes: &Mat<f64>,
-    keep: usize,
-    r: usize,
-) -> Option<(f64, Vec<f64>)> {
-    let n = k.nrows();
-    use faer::linalg::solvers::Solve;
-    let llt = k.llt(Side::Lower).ok()?;
-    let mut e = Mat::<f64>::zeros(n, 1);
-    e[(r, 0)] = 1.0;
-    let psi = llt.solve(e.as_ref());
-    let mut psi: Vec<f64> = (0..n).map(|i| psi[(i, 0)]).collect();
-    let m_norm = |x: &[f64]| -> f64 {
-        let mx = m * faer::ColRef::from_slice(x);
-        (0..n).map(|i| x[i] * mx[i]).sum::<f64>().sqrt()
+/// The basis `spec` of a pencil (no family check): each coupled block solved on its own
+/// ([`super::pencil`]), the candidates merged by frequency.
+fn build(
+    pencil: &Pencil<'_>,
+    bc: &BoundaryConditions,
+    spec: &BasisSpec,
+    par: Par,
+) -> Result<ModalBasis, BasisError> {
+    let n = pencil.size();
+    let free = bc.free_dofs();
+    let family_of = |r: usize| Family::of(Dof::of_index(free[r]));
+    if let BasisSpec::Lowest(count) = spec
+        && *count > n
+    {
+        return Err(EigenError::TooMany {
+            asked: *count,
+            size: n,
+        }
+        .into());
+    }
+    let loads = match spec {
+        BasisSpec::PerFamily {
+            static_corrections: true,
+            ..
+        } => Some(bit_loads(&free, bc.dof())),
+        _ => None,
     };
-    let initial = m_norm(&psi);
-    for _ in 0..2 {
-        let mpsi = m * faer::ColRef::from_slice(&psi);
-        for c in 0..keep {
-            let dot: f64 = (0..n).map(|i| modes[(i, c)] * mpsi[i]).sum();
-            for (i, p) in psi.iter_mut().enumerate() {
-                *p -= dot * modes[(i, c)];
+    let mut chosen: Vec<Candidate> = Vec::new();
+    for (b, block) in pencil.blocks().into_iter().enumerate() {
+        // A block whose DOFs are all of one family (the linear operators do not couple them).
+        let family =
+            Some(family_of(block[0])).filter(|f| block.iter().all(|&r| family_of(r) == *f));
+        let size = match (spec, family) {
+            (BasisSpec::Lowest(count), _) => FamilySize::Count(*count),
+            (BasisSpec::PerFamily { .. }, None) => FamilySize::Count(block.len()),
+            (
+                BasisSpec::PerFamily {
+                    bending,
+                    torsional,
+                    axial,
+                    ..
+                },
+                Some(f),
+            ) => match f {
+                Family::Axial => *axial,
+                Family::Torsional => *torsional,
+                Family::BendingY | Family::BendingZ => *bending,
+            },
+        };
+        chosen.extend(
+            solve_block(pencil, &block, family, size, loads, &family_of, par)?
+                .into_iter()
+                .map(|c| Candidate { block: b, ..c }),
+        );
+    }
+    chosen.sort_by(|a, b| a.lambda.total_cmp(&b.lambda));
+    // Twin blocks (the two bending planes) have the same λ up to round-off, which Lanczos does
+    // not reproduce bit for bit: keep such pairs in block order (y before z), as the dense solve
+    // gives them.
+    for i in 1..chosen.len() {
+        let (a, b) = (&chosen[i - 1], &chosen[i]);
+        if (b.lambda - a.lambda).abs() <= 1e-9 * a.lambda.abs().max(b.lambda.abs())
+            && a.block > b.block
+        {
+            chosen.swap(i - 1, i);
+        }
+    }
+    if let BasisSpec::Lowest(count) = spec {
+        chosen.truncate(*count);
+    }
+    let count = chosen.len();
+    let mut reduced = Mat::zeros(n, count);
+    for (c, cand) in chosen.iter().enumerate() {
+        for &(r, v) in &cand.entries {
+            reduced[(r, c)] = v;
+        }
+    }
+    let shapes = bc.expand(&reduced);
+    let modes = chosen
+        .iter()
+        .enumerate()
+        .map(|(c, cand)| {
+            let omega = cand.lambda.max(0.0).sqrt();
+            Mode {
+                index: c + 1,
+                freq_hz: omega / (2.0 * std::f64::consts::PI),
+                omega,
+                family: cand.family,
+                kind: cand.kind,
+                energy_share: pencil.energy_shares(shapes.as_ref(), c),
             }
-        }
-    }
-    let norm = m_norm(&psi);
-    if norm.is_nan() || norm <= 1e-8 * initial {
-        return None;
-    }
-    psi.iter_mut().for_each(|p| *p /= norm);
-    let kpsi = k * faer::ColRef::from_slice(&psi);
-    let lambda = (0..n).map(|i| psi[i] * kpsi[i]).sum();
-    Some((lambda, psi))
-}
-
-/// Kinetic-energy share of each family in mode column `c`: Σ_{i ∈ family} φᵢ (M φ)ᵢ, normalised.
-fn energy_shares(mass: MatRef<'_, f64>, shapes: MatRef<'_, f64>, c: usize) -> [f64; 4] {
-    let phi = shapes.col(c);
-    let m_phi = mass * phi;
-    let mut share = [0.0; 4];
-    for i in 0..phi.nrows() {
-        let fam = Family::of(Dof::of_index(i));
-        share[Family::ALL.iter().position(|f| *f == fam).unwrap_or(0)] += phi[i] * m_phi[i];
-    }
-    let total: f64 = share.iter().sum();
-    if total > 0.0 {
-        share.iter_mut().for_each(|s| *s /= total);
-    }
-    share
-}
-
-/// Connected blocks of the graph with an edge wherever K or M has a nonzero off-diagonal entry.
-fn coupled_blocks(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Vec<Vec<usize>> {
-    let n = k.nrows();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    for j in 0..n {
-        for i in (j + 1)..n {
-            if k[(i, j)] != 0.0 || m[(i, j)] != 0.0 {
-                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
-                if a != b {
-                    parent[a.max(b)] = a.min(b);
-                }
-            }
-        }
-    }
-    let mut blocks: Vec<Vec<usize>> = Vec::new();
-    let mut block_of_root = vec![usize::MAX; n];
-    for i in 0..n {
-        let r = root(&mut parent, i);
-        if block_of_root[r] == usize::MAX {
-            block_of_root[r] = blocks.len();
-            blocks.push(Vec::new());
-        }
-        blocks[block_of_root[r]].push(i);
-    }
-    blocks
+        })
+        .collect();
+    Ok(ModalBasis { modes, shapes })
 }

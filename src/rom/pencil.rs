@@ -1,0 +1,382 @@
+//! The modal solve block by block, on dense or sparse (K, M).
+//!
+//! The free DOFs are split into the connected blocks of the (K, M) coupling graph (for the
+//! drillstring: axial, torsional, bending in y, bending in z) and each block is solved on its own.
+//! A block of at most [`LANCZOS_MIN_BLOCK`] DOFs is solved densely (all its eigenpairs, faer's
+//! self-adjoint solver): this is every block of the shipped problems (the seed's largest is 209),
+//! whose bases are pinned bitwise by `tests/cache_key.rs`. A larger block is solved by sparse
+//! shift-invert Lanczos for the kept modes only ([`super::lanczos`]), so a long mesh needs neither
+//! dense matrices nor all its eigenpairs. Both pencils give the same blocks and, for the dense
+//! blocks, bitwise the same modes.
+
+use super::eigen::{EigenError, generalized_symmetric_eigen};
+use super::lanczos::{lanczos_applies, sparse_generalized_eigen, sparse_unit_response};
+use super::modes::{Candidate, Family, ModeKind};
+use crate::fem::{DOF_PER_NODE, Dof, SymmetricSparse};
+use crate::model::FamilySize;
+use faer::{Mat, MatRef, Par, Side};
+
+/// Blocks larger than this many DOFs go to sparse Lanczos (when the kept count allows a Krylov
+/// space smaller than the block): the bending blocks of meshes of 400 elements and more.
+/// Below it the dense solve is fast (`cargo bench --bench fem -- modes_`).
+pub const LANCZOS_MIN_BLOCK: usize = 800;
+
+/// (K, M) restricted to the free DOFs, with the full mass for the energy shares.
+pub(super) enum Pencil<'a> {
+    Dense {
+        k: Mat<f64>,
+        m: Mat<f64>,
+        full_mass: MatRef<'a, f64>,
+    },
+    Sparse {
+        k: SymmetricSparse,
+        m: SymmetricSparse,
+        full_mass: &'a SymmetricSparse,
+    },
+}
+
+/// One block's matrices.
+enum Block {
+    Dense(Mat<f64>, Mat<f64>),
+    Sparse(SymmetricSparse, SymmetricSparse),
+}
+
+impl Pencil<'_> {
+    /// Order of the free-DOF problem.
+    pub fn size(&self) -> usize {
+        match self {
+            Pencil::Dense { k, .. } => k.nrows(),
+            Pencil::Sparse { k, .. } => k.size(),
+        }
+    }
+
+    /// Connected blocks of the graph with an edge wherever K or M has a nonzero off-diagonal
+    /// entry; each block ascending, blocks by their smallest DOF.
+    pub fn blocks(&self) -> Vec<Vec<usize>> {
+        let n = self.size();
+        let mut edges: Vec<(usize, usize)> = Vec::new();
+        match self {
+            Pencil::Dense { k, m, .. } => {
+                for j in 0..n {
+                    for i in (j + 1)..n {
+                        if k[(i, j)] != 0.0 || m[(i, j)] != 0.0 {
+                            edges.push((i, j));
+                        }
+                    }
+                }
+            }
+            Pencil::Sparse { k, m, .. } => {
+                for a in [k, m] {
+                    for j in 0..n {
+                        edges.extend(a.column(j).filter(|&(i, _)| i > j).map(|(i, _)| (i, j)));
+                    }
+                }
+            }
+        }
+        connected_blocks(n, edges)
+    }
+
+    /// The block's matrices: sparse when Lanczos will solve it.
+    fn block(&self, block: &[usize], take: usize) -> Block {
+        let sparse = block.len() > LANCZOS_MIN_BLOCK && lanczos_applies(block.len(), take);
+        match self {
+            Pencil::Dense { k, m, .. } => {
+                let sub = |a: &Mat<f64>| {
+                    Mat::from_fn(block.len(), block.len(), |i, j| a[(block[i], block[j])])
+                };
+                let (kb, mb) = (sub(k), sub(m));
+                if sparse {
+                    Block::Sparse(
+                        SymmetricSparse::from_dense(kb.as_ref()),
+                        SymmetricSparse::from_dense(mb.as_ref()),
+                    )
+                } else {
+                    Block::Dense(kb, mb)
+                }
+            }
+            Pencil::Sparse { k, m, .. } => {
+                let (kb, mb) = (k.submatrix(block), m.submatrix(block));
+                if sparse {
+                    Block::Sparse(kb, mb)
+                } else {
+                    Block::Dense(kb.to_dense(), mb.to_dense())
+                }
+            }
+        }
+    }
+
+    /// Entry (i, j) of the free-DOF mass.
+    fn mass(&self, i: usize, j: usize) -> f64 {
+        match self {
+            Pencil::Dense { m, .. } => m[(i, j)],
+            Pencil::Sparse { m, .. } => m.get(i, j),
+        }
+    }
+
+    /// Kinetic-energy share of each family in mode column `c` of the full-DOF `shapes`:
+    /// Σ_{i ∈ family} φᵢ (M φ)ᵢ, normalised.
+    pub fn energy_shares(&self, shapes: MatRef<'_, f64>, c: usize) -> [f64; 4] {
+        let phi = shapes.col(c);
+        let m_phi: Vec<f64> = match self {
+            Pencil::Dense { full_mass, .. } => {
+                let m_phi = *full_mass * phi;
+                (0..phi.nrows()).map(|i| m_phi[i]).collect()
+            }
+            Pencil::Sparse { full_mass, .. } => {
+                let x: Vec<f64> = (0..phi.nrows()).map(|i| phi[i]).collect();
+                let mut y = vec![0.0; x.len()];
+                full_mass.mul_vec(&x, &mut y);
+                y
+            }
+        };
+        let mut share = [0.0; 4];
+        for (i, mp) in m_phi.iter().enumerate() {
+            let fam = Family::of(Dof::of_index(i));
+            share[Family::ALL.iter().position(|f| *f == fam).unwrap_or(0)] += phi[i] * mp;
+        }
+        let total: f64 = share.iter().sum();
+        if total > 0.0 {
+            share.iter_mut().for_each(|s| *s /= total);
+        }
+        share
+    }
+}
+
+/// The candidates of one block: its kept normal modes and (when asked) the static corrections of
+/// unit loads on `loads` (free-DOF indices of the bit's u and θx).
+pub(super) fn solve_block(
+    pencil: &Pencil<'_>,
+    block: &[usize],
+    family: Option<Family>,
+    size: FamilySize,
+    loads: Option<[usize; 2]>,
+    family_of: &impl Fn(usize) -> Family,
+    par: Par,
+) -> Result<Vec<Candidate>, EigenError> {
+    let all = block.len();
+    let take = match size {
+        FamilySize::Count(c) => c.min(all),
+        FamilySize::Cutoff { .. } => all,
+    };
+    let limit = |hz: f64| (2.0 * std::f64::consts::PI * hz).powi(2);
+    let (values, vectors, matrices) = match pencil.block(
+        block,
+        match size {
+            FamilySize::Count(_) => take,
+            FamilySize::Cutoff { min, .. } => min.max(16),
+        },
+    ) {
+        Block::Dense(kb, mb) => {
+            let (v, x) = generalized_symmetric_eigen(kb.as_ref(), mb.as_ref(), take, par)?;
+            (v, x, Block::Dense(kb, mb))
+        }
+        Block::Sparse(kb, mb) => {
+            let (v, x) = match size {
+                FamilySize::Count(_) => sparse_generalized_eigen(&kb, &mb, take, par)?,
+                // Enough modes to pass the cutoff: double the count until the last is above it.
+                FamilySize::Cutoff { hz, min } => {
+                    let mut t = min.max(16).min(all);
+                    loop {
+                        let (v, x) = sparse_generalized_eigen(&kb, &mb, t, par)?;
+                        if t == all || v.last().is_some_and(|&l| l > limit(hz)) {
+                            break (v, x);
+                        }
+                        t = (2 * t).min(all);
+                    }
+                }
+            };
+            (v, x, Block::Sparse(kb, mb))
+        }
+    };
+    let keep = match size {
+        FamilySize::Count(_) => values.len(),
+        FamilySize::Cutoff { hz, min } => values
+            .iter()
+            .filter(|&&l| l <= limit(hz))
+            .count()
+            .max(min)
+            .min(values.len()),
+    };
+    let entries_of = |col: &dyn Fn(usize) -> f64| -> Vec<(usize, f64)> {
+        block
+            .iter()
+            .enumerate()
+            .map(|(r, &g)| (g, col(r)))
+            .collect()
+    };
+    let mut kept: Vec<Candidate> = (0..keep)
+        .map(|c| {
+            let entries = entries_of(&|r| vectors[(r, c)]);
+            Candidate {
+                lambda: values[c],
+                family: family.unwrap_or_else(|| dominant_family(pencil, &entries, family_of)),
+                kind: ModeKind::Normal,
+                entries,
+                block: 0,
+            }
+        })
+        .collect();
+    for g in loads.into_iter().flatten() {
+        let Some(r) = block.iter().position(|&b| b == g) else {
+            continue;
+        };
+        let correction = match &matrices {
+            Block::Dense(kb, mb) => static_correction(kb.as_ref(), mb.as_ref(), &vectors, keep, r),
+            Block::Sparse(kb, mb) => sparse_static_correction(kb, mb, &vectors, keep, r),
+        };
+        if let Some((lambda, psi)) = correction {
+            kept.push(Candidate {
+                lambda,
+                family: family_of(block[r]),
+                kind: ModeKind::StaticCorrection,
+                entries: entries_of(&|i| psi[i]),
+                block: 0,
+            });
+        }
+    }
+    Ok(kept)
+}
+
+/// The free-DOF indices of the bit node's u and θx, when free.
+pub(super) fn bit_loads(free: &[usize], dof: usize) -> [usize; 2] {
+    let node = dof / DOF_PER_NODE - 1;
+    [Dof::U, Dof::ThetaX].map(|d| {
+        free.iter()
+            .position(|&f| f == d.at(node))
+            .unwrap_or(usize::MAX)
+    })
+}
+
+/// The family holding most of the kinetic energy of a free-DOF vector.
+fn dominant_family(
+    pencil: &Pencil<'_>,
+    entries: &[(usize, f64)],
+    family_of: &impl Fn(usize) -> Family,
+) -> Family {
+    let mut share = [0.0; 4];
+    for &(i, a) in entries {
+        let mi: f64 = entries.iter().map(|&(j, b)| pencil.mass(i, j) * b).sum();
+        share[Family::ALL
+            .iter()
+            .position(|f| *f == family_of(i))
+            .unwrap_or(0)] += a * mi;
+    }
+    Family::ALL[(0..4)
+        .max_by(|&a, &b| share[a].total_cmp(&share[b]))
+        .unwrap_or(0)]
+}
+
+/// The static correction of a unit load on block DOF `r`: ψ = K⁻¹ e_r, M-orthogonalised (twice,
+/// classical Gram–Schmidt) against the first `keep` columns of the M-orthonormal `modes`, then
+/// M-normalised. Because K φ = λ M φ, ψ is then K-orthogonal to the modes as well, and (ψᵀKψ, ψ)
+/// extends the diagonal reduced operators. `None` when the kept modes already span ψ (relative
+/// M-norm of the remainder below 1e-8) or K is singular.
+fn static_correction(
+    k: MatRef<'_, f64>,
+    m: MatRef<'_, f64>,
+    modes: &Mat<f64>,
+    keep: usize,
+    r: usize,
+) -> Option<(f64, Vec<f64>)> {
+    let n = k.nrows();
+    use faer::linalg::solvers::Solve;
+    let llt = k.llt(Side::Lower).ok()?;
+    let mut e = Mat::<f64>::zeros(n, 1);
+    e[(r, 0)] = 1.0;
+    let psi = llt.solve(e.as_ref());
+    let psi: Vec<f64> = (0..n).map(|i| psi[(i, 0)]).collect();
+    orthogonalise(
+        psi,
+        |x| {
+            let y = m * faer::ColRef::from_slice(x);
+            (0..n).map(|i| y[i]).collect()
+        },
+        |x| {
+            let y = k * faer::ColRef::from_slice(x);
+            (0..n).map(|i| y[i]).collect()
+        },
+        modes,
+        keep,
+    )
+}
+
+/// [`static_correction`] on sparse block matrices.
+fn sparse_static_correction(
+    k: &SymmetricSparse,
+    m: &SymmetricSparse,
+    modes: &Mat<f64>,
+    keep: usize,
+    r: usize,
+) -> Option<(f64, Vec<f64>)> {
+    let psi = sparse_unit_response(k, r)?;
+    fn times(a: &SymmetricSparse) -> impl Fn(&[f64]) -> Vec<f64> + '_ {
+        move |x: &[f64]| {
+            let mut y = vec![0.0; x.len()];
+            a.mul_vec(x, &mut y);
+            y
+        }
+    }
+    orthogonalise(psi, times(m), times(k), modes, keep)
+}
+
+/// ψ M-orthogonalised against the first `keep` modes (twice), M-normalised, with ψᵀKψ.
+fn orthogonalise(
+    mut psi: Vec<f64>,
+    m: impl Fn(&[f64]) -> Vec<f64>,
+    k: impl Fn(&[f64]) -> Vec<f64>,
+    modes: &Mat<f64>,
+    keep: usize,
+) -> Option<(f64, Vec<f64>)> {
+    let n = psi.len();
+    let m_norm = |x: &[f64]| -> f64 {
+        let mx = m(x);
+        (0..n).map(|i| x[i] * mx[i]).sum::<f64>().sqrt()
+    };
+    let initial = m_norm(&psi);
+    for _ in 0..2 {
+        let mpsi = m(&psi);
+        for c in 0..keep {
+            let dot: f64 = (0..n).map(|i| modes[(i, c)] * mpsi[i]).sum();
+            for (i, p) in psi.iter_mut().enumerate() {
+                *p -= dot * modes[(i, c)];
+            }
+        }
+    }
+    let norm = m_norm(&psi);
+    if norm.is_nan() || norm <= 1e-8 * initial {
+        return None;
+    }
+    psi.iter_mut().for_each(|p| *p /= norm);
+    let kpsi = k(&psi);
+    let lambda = (0..n).map(|i| psi[i] * kpsi[i]).sum();
+    Some((lambda, psi))
+}
+
+/// Connected components of the graph on 0..n with the given edges (union–find).
+fn connected_blocks(n: usize, edges: Vec<(usize, usize)>) -> Vec<Vec<usize>> {
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for (i, j) in edges {
+        let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+        if a != b {
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut blocks: Vec<Vec<usize>> = Vec::new();
+    let mut block_of_root = vec![usize::MAX; n];
+    for i in 0..n {
+        let r = root(&mut parent, i);
+        if block_of_root[r] == usize::MAX {
+            block_of_root[r] = blocks.len();
+            blocks.push(Vec::new());
+        }
+        blocks[block_of_root[r]].push(i);
+    }
+    blocks
+}
