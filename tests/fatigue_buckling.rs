@@ -149,7 +149,7 @@ fn bad_fatigue_keys_are_refused_naming_the_file_the_key_and_what_is_allowed() {
     refuse(
         "endurance_limit = \"5 kN\"",
         "model.pipe.fatigue.endurance_limit",
-        &["unknown unit `kN`", "MPa"],
+        &["unit `kN` of a force, the wrong dimension", "MPa"],
     );
     refuse(
         "stress_concentration = 0.5",

@@ -505,17 +505,23 @@ fn an_unknown_unit_is_refused_listing_the_allowed_units() {
         "operating_point.v0",
         &["unknown unit `m/day`", "m/h", "m/s"],
     );
-    // A unit of the wrong dimension is an unknown unit too.
+    // A known unit of the wrong dimension is said to be one, with the units of the right one.
     refused(
         &set("model.pipe", "outer_radius", "\"60 kN\""),
         "model.pipe.outer_radius",
-        &["unknown unit `kN`", "mm"],
+        &[
+            "the unit `kN` of a force, the wrong dimension: the value is a length",
+            "mm",
+        ],
     );
     // Dimensionless values take no unit.
     refused(
         &set("model.pipe", "poisson_ratio", "\"0.3 m\""),
         "model.pipe.poisson_ratio",
-        &["unknown unit `m`", "a plain number"],
+        &[
+            "unit `m` of a length, but the value is dimensionless",
+            "a plain number",
+        ],
     );
 }
 
@@ -1004,7 +1010,7 @@ fn a_probe_outside_the_string_is_refused() {
     refused(
         &set("simulation", "probes", "[\"20 rpm\"]"),
         "simulation.probes[0]",
-        &["unknown unit `rpm`"],
+        &["the unit `rpm` of an angular velocity, the wrong dimension"],
     );
 }
 
