@@ -220,7 +220,7 @@ fn a_threshold_of_the_wrong_dimension_is_refused_with_the_allowed_units() {
     for part in [
         "fatigue.toml",
         "constraints.chance[0].threshold",
-        "unknown unit `kN`",
+        "the unit `kN` of a force, the wrong dimension",
         "max_von_mises_pa is a stress",
         "in Pa",
         "MPa",

@@ -55,7 +55,7 @@ pub(super) fn parse(
                 other => other.to_string(),
             })
             .collect();
-        let (key, message) = shape_error(e);
+        let (key, message) = shape_error(e, text);
         if message.starts_with("missing field") {
             // Missing because a mistyped value was taken out: already reported.
             if !removed.contains(&key) {
@@ -80,7 +80,7 @@ pub(super) fn parse(
 }
 
 /// The key and message of a deserialization error.
-fn shape_error(e: serde_path_to_error::Error<toml::de::Error>) -> (String, String) {
+fn shape_error(e: serde_path_to_error::Error<toml::de::Error>, text: &str) -> (String, String) {
     let path = e.path().to_string();
     let message = e.into_inner().message().to_string();
     let key = if path == "." || path.is_empty() {
@@ -92,14 +92,15 @@ fn shape_error(e: serde_path_to_error::Error<toml::de::Error>) -> (String, Strin
             _ => path,
         }
     };
-    plain_shape(key, message)
+    plain_shape(key, message, text)
 }
 
 /// serde's "invalid type: map, expected i64" in the words of a problem file: what the key must
 /// be (an integer, a number, a string, an array, a table) and what was written. A table written
 /// as an array of tables (`[[uncertain]]` for `[uncertain]`), or the other way round, is said so
-/// with the header to write. Other messages pass unchanged.
-fn plain_shape(key: String, message: String) -> (String, String) {
+/// with the header to write (when `text`, the file, has that header). Other messages pass
+/// unchanged.
+fn plain_shape(key: String, message: String, text: &str) -> (String, String) {
     let Some((got, expected)) = message
         .strip_prefix("invalid type: ")
         .and_then(|m| m.split_once(", expected "))
@@ -122,7 +123,7 @@ fn plain_shape(key: String, message: String) -> (String, String) {
     // where one table's first field was expected.
     if let Some(parent) = key.strip_suffix("[0]")
         && got == "a table"
-        && !parent.ends_with(']')
+        && text.contains(&format!("[[{parent}]]"))
     {
         return (
             parent.to_string(),
@@ -131,7 +132,7 @@ fn plain_shape(key: String, message: String) -> (String, String) {
             ),
         );
     }
-    if got == "a table" && expected_words == "an array" {
+    if got == "a table" && expected_words == "an array" && text.contains(&format!("[{key}]")) {
         return (
             key.clone(),
             format!(
