@@ -150,8 +150,7 @@ fn print_check(c: &NumericalCheck) {
             show(m.refined_basis),
             100.0 * m.rel_change,
             100.0 * m.limit,
-            m.sample_std_dev
-                .map_or("n/a (1 sample)".to_string(), |sd| show(sd))
+            m.sample_std_dev.map_or("n/a (1 sample)".to_string(), show)
         );
     }
 }
