@@ -47,7 +47,8 @@ fn main() -> ExitCode {
     }
     let cli = drillopt::cli::Cli::parse();
     let status = match drillopt::cli::run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(drillopt::cli::Outcome::Success) => ExitCode::SUCCESS,
+        Ok(drillopt::cli::Outcome::NegativeVerdict) => ExitCode::FAILURE,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE

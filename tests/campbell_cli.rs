@@ -233,7 +233,7 @@ fn simulate_and_studies_report_the_margin_of_the_critical_speeds_campbell_finds(
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let column = header
         .iter()
-        .position(|h| *h == "critical_speed_margin")
+        .position(|h| *h == "critical_speed_margin [1]")
         .unwrap();
     let rows: Vec<&str> = lines.collect();
     assert!(!rows.is_empty());

@@ -52,7 +52,7 @@ fn compare_calls_points_outside_the_constraints_infeasible() {
     let csv = std::fs::read_to_string(dir.path().join("evaluations.csv")).unwrap();
     let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), 1 + 3, "{csv}");
-    assert_eq!(rows[0][..3], ["omega_rpm", "v0_m_per_h", "sample"]);
+    assert_eq!(rows[0][..3], ["omega [rpm]", "v0 [m/h]", "sample"]);
     let feasible = rows[0].iter().position(|h| *h == "feasible").unwrap();
     let first = |r: &[&str]| (r[0].to_string(), r[1].to_string(), r[feasible].to_string());
     assert_eq!(first(&rows[1]), ("200".into(), "30".into(), "false".into()));

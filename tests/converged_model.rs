@@ -145,3 +145,44 @@ fn verify_reports_verdicts_that_follow_from_its_numbers() {
     }
     assert_eq!(all, converged);
 }
+
+/// Issue 13: `verify`'s table is in the terminal's units, and its end is a verdict, not an error:
+/// the last line says converged or NOT converged (with the metric, its change and its limit),
+/// the exit status follows it, and stderr carries no `error:` line.
+#[test]
+fn verify_ends_with_a_verdict_in_the_terminal_units() {
+    let (ok, stdout, stderr) = drillopt(&[
+        "verify",
+        "problems/regression/tiny_string.toml",
+        "--duration",
+        "1",
+        "--quiet",
+    ]);
+    assert!(!stderr.contains("error"), "{stderr}");
+    let last = stdout.lines().last().unwrap();
+    if ok {
+        assert!(last.starts_with("verdict: converged"), "{stdout}");
+    } else {
+        assert!(last.starts_with("verdict: NOT converged ("), "{stdout}");
+        assert!(
+            last.contains(" % > ") && last.contains("refinement"),
+            "{last}"
+        );
+    }
+    let row = |key: &str| {
+        stdout
+            .lines()
+            .find(|l| l.starts_with(key))
+            .unwrap_or_else(|| panic!("{key}: {stdout}"))
+            .split_whitespace()
+            .collect::<Vec<_>>()
+    };
+    // WOB in kN (the tiny string's is about 55 kN), TOB in kN·m, MSE in MPa, stick time in %.
+    let wob = row("mean_wob_n");
+    assert_eq!(wob[1], "kN");
+    let kn: f64 = wob[2].parse().unwrap();
+    assert!((10.0..200.0).contains(&kn), "{kn}");
+    assert_eq!(row("mean_tob_nm")[1], "kN·m");
+    assert_eq!(row("mse_pa")[1], "MPa");
+    assert_eq!(row("stick_fraction")[1], "%");
+}

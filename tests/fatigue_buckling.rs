@@ -149,7 +149,7 @@ fn bad_fatigue_keys_are_refused_naming_the_file_the_key_and_what_is_allowed() {
     refuse(
         "endurance_limit = \"5 kN\"",
         "model.pipe.fatigue.endurance_limit",
-        &["unknown unit `kN`", "MPa"],
+        &["unit `kN` of a force, the wrong dimension", "MPa"],
     );
     refuse(
         "stress_concentration = 0.5",
@@ -220,7 +220,7 @@ fn a_threshold_of_the_wrong_dimension_is_refused_with_the_allowed_units() {
     for part in [
         "fatigue.toml",
         "constraints.chance[0].threshold",
-        "unknown unit `kN`",
+        "the unit `kN` of a force, the wrong dimension",
         "max_von_mises_pa is a stress",
         "in Pa",
         "MPa",

@@ -33,7 +33,7 @@ fn off_bottom_rotation_simulates_with_defined_metrics() {
 #[test]
 fn a_negative_v0_on_the_command_line_is_refused_naming_the_key_and_range() {
     let dir = tempfile::tempdir().unwrap();
-    for v0 in ["-1m/h", "-1e-3"] {
+    for v0 in ["-1m/h", "-1e-3m/s"] {
         let out = simulate(&["--v0", v0], dir.path());
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{stderr}");
@@ -47,6 +47,14 @@ fn a_negative_v0_on_the_command_line_is_refused_naming_the_key_and_range() {
         assert!(!stderr.contains("unexpected argument"), "{stderr}");
         assert!(!dir.path().join("summary.json").exists());
     }
+    // A bare number (other than 0) is refused for its missing unit, saying how to write it.
+    let out = simulate(&["--v0", "-1e-3"], dir.path());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("--v0") && stderr.contains("has no unit") && stderr.contains("-1e-3m/h"),
+        "{stderr}"
+    );
     // The same for a negative rotation speed: the range of operating_point.omega.
     let out = simulate(&["--omega", "-60rpm"], dir.path());
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -54,4 +62,35 @@ fn a_negative_v0_on_the_command_line_is_refused_naming_the_key_and_range() {
         stderr.contains("operating_point.omega") && stderr.contains("1 to 1000 rpm"),
         "{stderr}"
     );
+}
+
+/// Issue 13: `--omega 60` would be 60 rad/s (573 rpm), never what a driller means: simulate,
+/// verify and compare refuse a bare rotation speed or feed the same way, saying how to write it.
+#[test]
+fn a_bare_number_for_omega_or_v0_is_refused_by_every_one_point_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = "problems/regression/tiny_string.toml";
+    let out = dir.path().to_str().unwrap();
+    for args in [
+        vec!["simulate", tiny, "--quiet", "--out", out, "--omega", "60"],
+        vec!["verify", tiny, "--quiet", "--omega", "60"],
+        vec![
+            "compare", tiny, "--quiet", "--out", out, "--point", "60,5m/h",
+        ],
+    ] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+            .args(&args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("`60` has no unit")
+                && stderr.contains("e.g. 60rpm")
+                && stderr.contains("572.9578 rpm"),
+            "{args:?}: {stderr}"
+        );
+    }
+    assert!(!dir.path().join("summary.json").exists());
 }

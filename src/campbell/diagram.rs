@@ -20,7 +20,7 @@ pub struct Curve {
     pub index: usize,
     /// The family of most of its points.
     pub family: ModeFamily,
-    /// The whirl of most of its points with a whirl (forward or backward), else none.
+    /// The whirl of most of its points with one (forward, backward or planar), else none.
     pub whirl: Whirl,
     /// At each grid point, the index of the mode in that point's spectrum (None: not there).
     pub members: Vec<Option<usize>>,
@@ -160,12 +160,15 @@ fn majority(modes: &[&EigenMode]) -> ModeFamily {
         .unwrap_or(ModeFamily::Bending)
 }
 
+/// The whirl most of a curve's points have among forward, backward and planar; none on a tie
+/// or when no point has one.
 fn whirl(modes: &[&EigenMode]) -> Whirl {
     let count = |w: Whirl| modes.iter().filter(|m| m.whirl == w).count();
-    let (f, b) = (count(Whirl::Forward), count(Whirl::Backward));
-    match f.cmp(&b) {
-        std::cmp::Ordering::Greater => Whirl::Forward,
-        std::cmp::Ordering::Less => Whirl::Backward,
-        std::cmp::Ordering::Equal => Whirl::None,
+    let counts = [Whirl::Forward, Whirl::Backward, Whirl::Planar].map(|w| (count(w), w));
+    let top = counts.iter().map(|c| c.0).max().unwrap_or(0);
+    let mut leaders = counts.iter().filter(|c| c.0 == top && top > 0);
+    match (leaders.next(), leaders.next()) {
+        (Some(&(_, w)), None) => w,
+        _ => Whirl::None,
     }
 }

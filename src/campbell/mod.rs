@@ -35,7 +35,8 @@ pub use critical::{
 pub use diagram::{CampbellDiagram, Curve};
 pub use linear::{LinearSystem, Linearisation, RestingState};
 pub use spectrum::{
-    EigenMode, ModeFamily, PLANAR, Spectrum, StateEigen, Whirl, circularity, spectrum, state_eigen,
+    EigenMode, ModeFamily, PLANAR, Spectrum, StateEigen, Whirl, circularity, classify, spectrum,
+    state_eigen,
 };
 
 use crate::rom::ReducedModel;

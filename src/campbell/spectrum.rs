@@ -68,7 +68,10 @@ pub enum Whirl {
     Forward,
     /// The orbit turns against the spin (κ Ω < 0).
     Backward,
-    /// Not a bending mode, no spin (Ω = 0), or a planar orbit (|κ| ≤ [`PLANAR`]).
+    /// A bending mode under spin whose orbit is nearly a line (|κ| ≤ [`PLANAR`]): it turns
+    /// neither way to speak of (an anisotropic support, a mode of one plane).
+    Planar,
+    /// Not a bending mode, or no spin (Ω = 0): no whirl sense to give.
     None,
 }
 
@@ -77,14 +80,32 @@ impl Whirl {
         match self {
             Whirl::Forward => "forward",
             Whirl::Backward => "backward",
+            Whirl::Planar => "planar",
             Whirl::None => "none",
         }
     }
 }
 
-/// |κ| at or below which an orbit counts as planar (no whirl sense): round-off of the
-/// eigenvectors of a non-rotating string.
-pub const PLANAR: f64 = 1e-9;
+/// |κ| at or below which a bending mode's orbit is called [`Whirl::Planar`]: 1e-3, an ellipse
+/// whose minor axis is at most 1/2000 of its major one (κ = 2ab/(a² + b²) ≈ 2b/a for b ≪ a).
+/// Below it the sense of the orbit is round-off or a negligible gyroscopic coupling (orbits with
+/// |κ| of order 1e-5 were called "forward", issue 13), not a whirl a driller should read.
+pub const PLANAR: f64 = 1e-3;
+
+/// The whirl of a mode of `family` with circularity κ at spin rate Ω (rad/s): none for a mode
+/// that is not bending or without spin, planar for |κ| ≤ [`PLANAR`], else forward when κ has the
+/// sign of Ω and backward when it has the other.
+pub fn classify(family: ModeFamily, omega: f64, circularity: f64) -> Whirl {
+    if family != ModeFamily::Bending || omega == 0.0 {
+        Whirl::None
+    } else if circularity.abs() <= PLANAR {
+        Whirl::Planar
+    } else if circularity * omega > 0.0 {
+        Whirl::Forward
+    } else {
+        Whirl::Backward
+    }
+}
 
 /// One eigenpair of the linearised system at a spin rate.
 #[derive(Debug, Clone)]
@@ -228,13 +249,7 @@ fn label(
     let circularity = circularity(&v, &w);
     let lateral: f64 = v.iter().chain(&w).map(|c| c.norm_sqr()).sum();
     let vertical_share = w.iter().map(|c| c.norm_sqr()).sum::<f64>() / lateral;
-    let whirl = if family != ModeFamily::Bending || omega == 0.0 || circularity.abs() <= PLANAR {
-        Whirl::None
-    } else if circularity * omega > 0.0 {
-        Whirl::Forward
-    } else {
-        Whirl::Backward
-    };
+    let whirl = classify(family, omega, circularity);
     EigenMode {
         eigenvalue: lambda,
         freq_hz: lambda.im / std::f64::consts::TAU,
@@ -274,5 +289,29 @@ mod tests {
         assert_eq!(circularity(&[], &[]), 0.0);
         // An ellipse with semi-axes 1 and 0.5: κ = 2ab/(a² + b²) = 0.8.
         assert!((circularity(&[one], &[-i * 0.5]) - 0.8).abs() < 1e-15);
+    }
+
+    #[test]
+    fn nearly_planar_orbits_are_planar_not_forward() {
+        let one = Complex::new(1.0, 0.0);
+        let i = Complex::new(0.0, 1.0);
+        // Semi-axes 1 and 2.5e-5: κ = 2ab/(a² + b²) ≈ 5e-5, the orbits issue 13 saw called
+        // "forward"; at 1/1000 (κ ≈ 2e-3) the ellipse turns visibly.
+        let thin = circularity(&[one], &[-i * 2.5e-5]);
+        assert!((thin - 5e-5).abs() < 1e-12, "{thin}");
+        assert_eq!(classify(ModeFamily::Bending, 6.0, thin), Whirl::Planar);
+        assert_eq!(classify(ModeFamily::Bending, -6.0, thin), Whirl::Planar);
+        assert_eq!(classify(ModeFamily::Bending, 6.0, PLANAR), Whirl::Planar);
+        let open = circularity(&[one], &[-i * 1e-3]);
+        assert_eq!(classify(ModeFamily::Bending, 6.0, open), Whirl::Forward);
+        assert_eq!(classify(ModeFamily::Bending, -6.0, open), Whirl::Backward);
+        assert_eq!(classify(ModeFamily::Bending, 6.0, -open), Whirl::Backward);
+        // No spin, or not bending: no whirl sense at all.
+        assert_eq!(classify(ModeFamily::Bending, 0.0, open), Whirl::None);
+        assert_eq!(classify(ModeFamily::Torsional, 6.0, open), Whirl::None);
+        assert_eq!(classify(ModeFamily::Bending, 0.0, 0.0), Whirl::None);
+        // The JSON name.
+        assert_eq!(serde_json::to_string(&Whirl::Planar).unwrap(), "\"planar\"");
+        assert_eq!(Whirl::Planar.name(), "planar");
     }
 }

@@ -84,9 +84,16 @@ pub fn check(
 pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
     let mut files = Vec::new();
     toml_files(&args.dir, &mut files)?;
+    super::study::start_threads(args.run.threads)?;
     let mut verdicts = Vec::new();
     for file in &files {
-        let problem = match Problem::load(file) {
+        let loaded = Problem::load(file)
+            .map_err(anyhow::Error::from)
+            .and_then(|mut p| {
+                super::study::apply_overrides(&mut p, file, &args.run, None)?;
+                Ok(p)
+            });
+        let problem = match loaded {
             Ok(p) => p,
             Err(e) => {
                 verdicts.push(Verdict {

@@ -253,7 +253,7 @@ fn print_table(r: &CampbellJson, out: &Path) {
     let (first, last) = (r.omega_rpm[0], r.omega_rpm[r.omega_rpm.len() - 1]);
     let top = 1.15 * r.excitation_multiple.max(1.0) * last / 60.0;
     println!(
-        "  modes below {:.2} Hz (1.15 × {}× at {} rpm); κ: +1 circular forward, −1 circular backward, 0 planar",
+        "  modes below {:.2} Hz (1.15 × {}× at {} rpm); κ: +1 circular forward, −1 circular backward, 0 planar (whirl \"planar\" for |κ| ≤ 1e-3)",
         top,
         crate::units::short(r.excitation_multiple),
         crate::units::short(last)

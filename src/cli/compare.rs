@@ -29,13 +29,17 @@ pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
     let (w, v) = text
         .split_once(',')
         .with_context(|| format!("--point {text}: expected OMEGA,V0 such as 60rpm,5m/h"))?;
-    for (part, example) in [(w, "60rpm"), (v, "5m/h")] {
-        anyhow::ensure!(
-            part.trim().parse::<f64>().is_err(),
-            "--point {text}: `{}` has no unit; write it with one, e.g. {example} (rpm, rad/s, rev/s, Hz; m/h, m/s, mm/s, m/min, ft/h)",
-            part.trim()
-        );
-    }
+    // The same rule as simulate's --omega and --v0: a bare number is refused (0 needs no unit).
+    super::simulate::require_unit(
+        &format!("--point {text}: rotation speed"),
+        w,
+        Dimension::AngularVelocity,
+    )?;
+    super::simulate::require_unit(
+        &format!("--point {text}: axial velocity"),
+        v,
+        Dimension::Velocity,
+    )?;
     let omega = Dimension::AngularVelocity
         .parse(w.trim())
         .with_context(|| format!("--point {text}: rotation speed"))?;
@@ -50,7 +54,9 @@ pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
 }
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let problem = Problem::load(&args.problem)?;
+    let mut problem = Problem::load(&args.problem)?;
+    study::apply_overrides(&mut problem, &args.problem, &args.run, None)?;
+    study::start_threads(args.run.threads)?;
     let ops = args
         .points
         .iter()
@@ -116,6 +122,13 @@ mod tests {
         let err = super::parse_point("60,5").unwrap_err().to_string();
         assert!(err.contains("no unit"), "{err}");
         assert!(super::parse_point("60rpm,5").is_err());
+        // 0 is 0 in every unit: off bottom needs none.
+        assert_eq!(super::parse_point("60rpm,0").unwrap().v0, 0.0);
+        // The point is converted by the one conversion of the driller's units: the same bits as
+        // units::from_rpm / from_m_per_h (the cache key of a solved point, issue 13).
+        let p = super::parse_point("80rpm,12m/h").unwrap();
+        assert_eq!(p.omega.to_bits(), crate::units::from_rpm(80.0).to_bits());
+        assert_eq!(p.v0.to_bits(), crate::units::from_m_per_h(12.0).to_bits());
         // Off bottom (V0 = 0) is a drilling state like any other; a negative V0 is not.
         assert_eq!(super::parse_point("60rpm,0m/h").unwrap().v0, 0.0);
         assert!(super::parse_point("60rpm,-1m/h").is_err());

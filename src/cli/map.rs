@@ -40,7 +40,9 @@ pub fn parse_grid(text: &str) -> anyhow::Result<[usize; 2]> {
 }
 
 pub fn run(args: &MapArgs) -> anyhow::Result<()> {
-    let problem = Problem::load(&args.problem)?;
+    let mut problem = Problem::load(&args.problem)?;
+    study::apply_overrides(&mut problem, &args.problem, &args.run, None)?;
+    study::start_threads(args.run.threads)?;
     let grid = match &args.grid {
         Some(g) => parse_grid(g)?,
         None => problem.study.optimizer.grid(),

@@ -56,16 +56,28 @@ pub(crate) fn basis_error(
     anyhow::anyhow!("{}: key `{key}`: {e}", path.display())
 }
 
-/// Run a parsed command line.
-pub fn run(cli: Cli) -> anyhow::Result<()> {
+/// How a command that ran to its end came out: a verdict is data, not an error (`verify` judging
+/// a model not converged printed its verdict; the process exits with status 1, without an
+/// `error:` line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Exit status 0.
+    Success,
+    /// The command's verdict is negative (printed); exit status 1.
+    NegativeVerdict,
+}
+
+/// Run a parsed command line; `Err` for a command that could not run (bad input, I/O, …).
+pub fn run(cli: Cli) -> anyhow::Result<Outcome> {
+    let done = |r: anyhow::Result<()>| r.map(|()| Outcome::Success);
     match cli.command {
-        Command::Modes(args) => modes::run(&args),
-        Command::Campbell(args) => campbell::run(&args),
-        Command::Simulate(args) => simulate::run(&args),
-        Command::Solve(args) => solve::run(&args),
-        Command::Compare(args) => compare::run(&args),
-        Command::Map(args) => map::run(&args),
-        Command::Batch(args) => batch::run(&args),
+        Command::Modes(args) => done(modes::run(&args)),
+        Command::Campbell(args) => done(campbell::run(&args)),
+        Command::Simulate(args) => done(simulate::run(&args)),
+        Command::Solve(args) => done(solve::run(&args)),
+        Command::Compare(args) => done(compare::run(&args)),
+        Command::Map(args) => done(map::run(&args)),
+        Command::Batch(args) => done(batch::run(&args)),
         Command::Verify(args) => verify::run(&args),
     }
 }

@@ -17,15 +17,16 @@ use std::path::{Path, PathBuf};
 pub struct PointArgs {
     // `allow_hyphen_values`: a negative value such as `-1m/h` reaches our parser, which refuses
     // it naming the key and the admissible range, instead of clap reading it as a flag.
-    /// Rotation speed, e.g. `60rpm` or `6.28` (rad/s) [default: the problem's].
+    /// Rotation speed with its unit, e.g. `60rpm` (rpm, rad/s, rev/s, Hz); a bare number is
+    /// refused [default: the problem's].
     #[arg(long, allow_hyphen_values = true)]
     pub omega: Option<String>,
-    /// Imposed axial velocity, e.g. `5m/h` or `0.00139` (m/s); `0` is off-bottom rotation
-    /// [default: the problem's].
+    /// Imposed axial velocity with its unit, e.g. `5m/h` (m/h, m/s, mm/s, m/min, ft/h); `0` is
+    /// off-bottom rotation; any other bare number is refused [default: the problem's].
     #[arg(long, allow_hyphen_values = true)]
     pub v0: Option<String>,
-    /// Simulated duration, e.g. `90` or `2s` [default: simulation.duration]; the analysis window
-    /// starts after simulation.settling_time (at most half the duration).
+    /// Simulated duration, e.g. `90` (seconds) or `2s`, `1.5min` [default: simulation.duration];
+    /// the analysis window starts after simulation.settling_time (at most half the duration).
     #[arg(long, allow_hyphen_values = true)]
     pub duration: Option<String>,
 }
@@ -53,6 +54,40 @@ pub struct SimulateArgs {
     pub unreduced: bool,
 }
 
+/// Refuse a bare number for a rotation speed or an axial velocity on the command line: it would
+/// be read in SI (`--omega 60` is 60 rad/s = 573 rpm), never what a driller means. 0 needs no
+/// unit. `what` names the flag for the message, `example` shows how to write it.
+pub(super) fn require_unit(what: &str, text: &str, dim: Dimension) -> anyhow::Result<()> {
+    let t = text.trim();
+    let Ok(v) = t.parse::<f64>() else {
+        return Ok(());
+    };
+    if v == 0.0 {
+        return Ok(());
+    }
+    let (example, units, si) = match dim {
+        Dimension::AngularVelocity => (
+            format!("{t}rpm"),
+            "rpm, rad/s, rev/s, Hz",
+            format!(
+                "{t} rad/s = {} rpm",
+                crate::units::short(crate::units::to_rpm(v))
+            ),
+        ),
+        _ => (
+            format!("{t}m/h"),
+            "m/h, m/s, mm/s, m/min, ft/h",
+            format!(
+                "{t} m/s = {} m/h",
+                crate::units::short(crate::units::to_m_per_h(v))
+            ),
+        ),
+    };
+    anyhow::bail!(
+        "{what}: `{t}` has no unit; write it with one, e.g. {example} ({units}); a bare number would be read in SI ({si})"
+    )
+}
+
 pub(super) fn parse_override(
     text: &Option<String>,
     flag: &str,
@@ -67,6 +102,9 @@ pub(super) fn parse_override(
                 "--v0" => "operating_point.v0",
                 _ => "simulation.duration",
             };
+            if flag != "--duration" {
+                require_unit(&format!("{flag} (key `{key}`)"), t, dim)?;
+            }
             let v = dim
                 .parse(t)
                 .with_context(|| format!("{flag} (key `{key}`)"))?;
@@ -308,14 +346,19 @@ fn print_summary(s: &SummaryJson, out: &Path) {
         st.min_dt
     );
     println!(
-        "  {} start, {} elements, {}: {}",
+        "  {} start, {} elements, {}",
         s.start,
         s.elements,
         match s.model {
-            sim::ModelKind::Reduced => "basis",
-            sim::ModelKind::Unreduced => "unreduced, every mode of the mesh",
-        },
-        s.basis
+            sim::ModelKind::Reduced => format!("reduced basis: {}", s.basis),
+            sim::ModelKind::Unreduced => format!(
+                "unreduced (all {} free DOFs: {} bending, {} torsional, {} axial)",
+                s.basis.bending + s.basis.torsional + s.basis.axial + s.basis.static_corrections,
+                s.basis.bending,
+                s.basis.torsional,
+                s.basis.axial
+            ),
+        }
     );
     if s.max_step_s < s.nominal_step_s {
         println!(

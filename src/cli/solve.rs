@@ -12,6 +12,11 @@ use std::time::Instant;
 pub struct SolveArgs {
     /// Problem file (TOML) with [constraints] and, optionally, [uncertain], [objective], [optimizer].
     pub problem: PathBuf,
+    /// Most design points the optimizer evaluates [default: optimizer.max_evaluations]; an
+    /// integer in [3, 100000] (EGO: above optimizer.initial_design; not for method = "grid").
+    /// Recorded in solution.json (`overrides`).
+    #[arg(long, value_name = "N")]
+    pub budget: Option<usize>,
     #[command(flatten)]
     pub run: super::study::RunArgs,
 }
@@ -131,24 +136,29 @@ fn print_check(c: &NumericalCheck) {
         }
     );
     println!(
-        "  {:<22} {:>12} {:>12} {:>9} {:>6} {:>14}",
-        "metric", "nominal", "refined", "change", "limit", "sample std dev"
+        "  {:<22} {:>7} {:>12} {:>12} {:>9} {:>6} {:>14}",
+        "metric", "unit", "nominal", "refined", "change", "limit", "sample std dev"
     );
     for (key, m) in &c.metrics {
+        // In the driller's units of the rest of the terminal (kN, kN·m, MPa, m/h, %).
+        let d = crate::report::MetricDisplay::of(key);
+        let show = |si: f64| super::verify::significant(d.value(si));
         println!(
-            "  {key:<22} {:>12} {:>12} {:>8.2}% {:>5.0}% {:>14}",
-            super::verify::significant(m.value),
-            super::verify::significant(m.refined_basis),
+            "  {key:<22} {:>7} {:>12} {:>12} {:>8.2}% {:>5.0}% {:>14}",
+            d.unit,
+            show(m.value),
+            show(m.refined_basis),
             100.0 * m.rel_change,
             100.0 * m.limit,
-            m.sample_std_dev
-                .map_or("n/a (1 sample)".to_string(), super::verify::significant)
+            m.sample_std_dev.map_or("n/a (1 sample)".to_string(), show)
         );
     }
 }
 
 pub fn run(args: &SolveArgs) -> anyhow::Result<()> {
-    let problem = Problem::load(&args.problem)?;
+    let mut problem = Problem::load(&args.problem)?;
+    study::apply_overrides(&mut problem, &args.problem, &args.run, args.budget)?;
+    study::start_threads(args.run.threads)?;
     let out = study::out_dir(&args.run.out, &problem, "solve");
     let outcome = solve_and_report(
         &problem,

@@ -25,6 +25,66 @@ pub struct RunArgs {
     /// nothing; batch prints only the pass/fail table).
     #[arg(long)]
     pub quiet: bool,
+    /// Monte Carlo samples per point [default: the problem's uncertain.samples]; an integer in
+    /// [1, 10000], more than 1 only with [[uncertain.parameter]]. Recorded in the report's
+    /// header (`samples`, `overrides`).
+    #[arg(long, value_name = "N")]
+    pub samples: Option<usize>,
+    /// Threads that run the simulations [default: every core, or RAYON_NUM_THREADS]; an integer
+    /// in [1, 1024]. Results do not depend on it; recorded in the report (`overrides`,
+    /// `work.executor`).
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+}
+
+/// Apply the command-line overrides to a loaded problem: `--samples` (and `budget`, solve's
+/// `--budget`) checked under their keys' rules, each refusal naming the flag, the key and the
+/// problem file; `--threads` is only recorded here (see [`start_threads`]).
+pub fn apply_overrides(
+    problem: &mut Problem,
+    file: &Path,
+    run: &RunArgs,
+    budget: Option<usize>,
+) -> anyhow::Result<()> {
+    if let Some(n) = run.samples {
+        problem.study.override_samples(n).map_err(|why| {
+            anyhow::anyhow!(
+                "--samples (key `uncertain.samples` of {}): {why}",
+                file.display()
+            )
+        })?;
+    }
+    if let Some(n) = budget {
+        problem.study.override_budget(n).map_err(|e| {
+            anyhow::anyhow!(
+                "--budget (key `optimizer.max_evaluations` of {}): {}",
+                file.display(),
+                if e.key == "max_evaluations" {
+                    e.message
+                } else {
+                    format!("{e}")
+                }
+            )
+        })?;
+    }
+    problem.study.overrides.threads = run.threads;
+    Ok(())
+}
+
+/// Run the simulations on `--threads` threads (rayon's global pool), once per process; the
+/// count is checked against [1, 1024].
+pub fn start_threads(threads: Option<usize>) -> anyhow::Result<()> {
+    let Some(n) = threads else {
+        return Ok(());
+    };
+    anyhow::ensure!(
+        crate::problem::study::THREADS.contains(&n),
+        "--threads must be an integer in [1, 1024], got {n}"
+    );
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build_global()
+        .map_err(|e| anyhow::anyhow!("--threads {n}: {e}"))
 }
 
 /// Where a command writes: `--out` or `results/<problem>/<command>/`.

@@ -35,7 +35,9 @@ pub struct VerifyArgs {
     pub unreduced: bool,
 }
 
-pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
+/// Verify, print the table (or JSON) and the verdict; a model not converged is a negative
+/// verdict (exit status 1), not an error.
+pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
     let problem = Problem::load(&args.problem)?;
     let (op, duration) = point_and_duration(&problem, &args.point)?;
     let settings = VerifySettings {
@@ -79,24 +81,42 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<()> {
     } else {
         print_table(&report, &settings, &refinements);
     }
-    anyhow::ensure!(
-        report.converged,
-        "not converged: {} beyond tolerance",
-        report
-            .metrics
-            .iter()
-            .filter(|(_, v)| !v.converged)
-            .map(|(k, v)| format!(
-                "{k} (up to {:.1} %, beyond {:.0} % under the {} refinement{})",
+    if args.json {
+        // The JSON holds the verdict ("converged"); the line goes to stderr, out of the way.
+        if !report.converged {
+            eprintln!("{}", verdict(&report));
+        }
+    } else {
+        println!("{}", verdict(&report));
+    }
+    Ok(if report.converged {
+        super::Outcome::Success
+    } else {
+        super::Outcome::NegativeVerdict
+    })
+}
+
+/// "verdict: converged (every decision metric within its limit)" or "verdict: NOT converged
+/// (stick_fraction changed 12.3 % > 10 % under the basis refinement; …)".
+fn verdict(r: &VerifyReport) -> String {
+    if r.converged {
+        return "verdict: converged (every decision metric within its limit)".to_string();
+    }
+    let why: Vec<String> = r
+        .metrics
+        .iter()
+        .filter(|(_, v)| !v.converged)
+        .map(|(k, v)| {
+            format!(
+                "{k} changed {:.1} % > {:.0} % under the {} refinement{}",
                 100.0 * v.max_rel_change,
                 100.0 * v.limit,
                 v.beyond_limit.join(", "),
                 if v.beyond_limit.len() > 1 { "s" } else { "" }
-            ))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    Ok(())
+            )
+        })
+        .collect();
+    format!("verdict: NOT converged ({})", why.join("; "))
 }
 
 /// Six significant digits, in exponent form outside [1e-3, 1e6).
@@ -118,15 +138,24 @@ fn print_table(r: &VerifyReport, s: &VerifySettings, refinements: &[Refinement])
         r.basis,
         r.refined_basis
     );
-    print!("{:<22} {:>12}", "metric", "value");
+    print!("{:<22} {:>7} {:>12}", "metric", "unit", "value");
     for refinement in refinements {
         print!(" {:>12}", refinement.name());
     }
     println!(" {:>9} {:>6}  verdict", "max chg", "limit");
     for (key, v) in &r.metrics {
-        print!("{key:<22} {:>12}", significant(v.value));
+        // In the driller's units of the rest of the terminal (kN, kN·m, MPa, m/h, %).
+        let d = crate::report::MetricDisplay::of(key);
+        print!(
+            "{key:<22} {:>7} {:>12}",
+            d.unit,
+            significant(d.value(v.value))
+        );
         for refinement in refinements {
-            print!(" {:>12}", significant(v.refined[refinement.name()]));
+            print!(
+                " {:>12}",
+                significant(d.value(v.refined[refinement.name()]))
+            );
         }
         println!(
             " {:>8.2}% {:>5.0}%  {}",
@@ -145,12 +174,4 @@ fn print_table(r: &VerifyReport, s: &VerifySettings, refinements: &[Refinement])
             run.name, run.elements, run.duration_s, run.steps, run.wall_time_s
         );
     }
-    println!(
-        "overall: {}",
-        if r.converged {
-            "converged"
-        } else {
-            "NOT converged"
-        }
-    );
 }

@@ -198,6 +198,55 @@ pub struct Study {
     pub constraints: Option<Constraints>,
     pub optimizer: OptimizerSettings,
     pub expect: Option<Expect>,
+    /// What the command line changed (`--samples`, `--budget`, `--threads`); none when read.
+    pub overrides: Overrides,
+}
+
+/// Legal range of Monte Carlo samples per point (`uncertain.samples`, `--samples`).
+pub const SAMPLES: std::ops::RangeInclusive<usize> = 1..=10_000;
+/// Legal range of `--threads`.
+pub const THREADS: std::ops::RangeInclusive<usize> = 1..=1024;
+
+/// Command-line overrides of a study, recorded in every study report's header (`overrides`) so
+/// that a result says what ran; `None`: the problem file's value (threads: all cores, or
+/// `RAYON_NUM_THREADS`). None of them enters the evaluation-cache key: a simulation depends on
+/// the point, the sample's index and seed and the model, not on how many samples, design
+/// points or threads a run has (sample i is the same draw whatever the number of samples).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Overrides {
+    /// Monte Carlo samples per point, instead of `uncertain.samples`.
+    pub samples: Option<usize>,
+    /// Design points of the optimizer, instead of `optimizer.max_evaluations` (solve only).
+    pub budget: Option<usize>,
+    /// Threads that run the simulations.
+    pub threads: Option<usize>,
+}
+
+impl Study {
+    /// Use `n` Monte Carlo samples per point instead of `uncertain.samples`, under the key's
+    /// rules: `n` in [`SAMPLES`], and more than one only with uncertain parameters. Err: what is
+    /// allowed, in words.
+    pub fn override_samples(&mut self, n: usize) -> Result<(), String> {
+        if !SAMPLES.contains(&n) {
+            return Err(format!("must be an integer in [1, 10000], got {n}"));
+        }
+        if n > 1 && self.uncertain.is_empty() {
+            return Err(format!(
+                "the problem has no [[uncertain.parameter]], so the {n} samples would all be the same; declare one or use 1"
+            ));
+        }
+        self.samples = n;
+        self.overrides.samples = Some(n);
+        Ok(())
+    }
+
+    /// Evaluate at most `n` design points instead of `optimizer.max_evaluations`, under the
+    /// key's rules (see [`OptimizerSettings::with_max_evaluations`]).
+    pub fn override_budget(&mut self, n: usize) -> Result<(), SettingsError> {
+        self.optimizer = self.optimizer.with_max_evaluations(n)?;
+        self.overrides.budget = Some(n);
+        Ok(())
+    }
 }
 
 /// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).

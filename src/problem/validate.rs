@@ -55,7 +55,7 @@ pub(super) fn parse(
                 other => other.to_string(),
             })
             .collect();
-        let (key, message) = shape_error(e);
+        let (key, message) = shape_error(e, text);
         if message.starts_with("missing field") {
             // Missing because a mistyped value was taken out: already reported.
             if !removed.contains(&key) {
@@ -80,7 +80,7 @@ pub(super) fn parse(
 }
 
 /// The key and message of a deserialization error.
-fn shape_error(e: serde_path_to_error::Error<toml::de::Error>) -> (String, String) {
+fn shape_error(e: serde_path_to_error::Error<toml::de::Error>, text: &str) -> (String, String) {
     let path = e.path().to_string();
     let message = e.into_inner().message().to_string();
     let key = if path == "." || path.is_empty() {
@@ -92,7 +92,55 @@ fn shape_error(e: serde_path_to_error::Error<toml::de::Error>) -> (String, Strin
             _ => path,
         }
     };
-    (key, message)
+    plain_shape(key, message, text)
+}
+
+/// serde's "invalid type: map, expected i64" in the words of a problem file: what the key must
+/// be (an integer, a number, a string, an array, a table) and what was written. A table written
+/// as an array of tables (`[[uncertain]]` for `[uncertain]`), or the other way round, is said so
+/// with the header to write (when `text`, the file, has that header). Other messages pass
+/// unchanged.
+fn plain_shape(key: String, message: String, text: &str) -> (String, String) {
+    let Some((got, expected)) = message
+        .strip_prefix("invalid type: ")
+        .and_then(|m| m.split_once(", expected "))
+    else {
+        return (key, message);
+    };
+    let got = match got {
+        "map" => "a table",
+        "sequence" => "an array",
+        other => other,
+    };
+    let expected_words = match expected {
+        "i64" | "i32" | "u64" | "u32" | "usize" => "an integer",
+        "f64" | "f32" => "a number",
+        "a sequence" => "an array",
+        e if e.starts_with("struct ") || e == "a map" => "a table",
+        e => e,
+    };
+    // `[[name]]` makes `name` an array of tables; serde then reads its first element `name[0]`
+    // where one table's first field was expected.
+    if let Some(parent) = key.strip_suffix("[0]")
+        && got == "a table"
+        && text.contains(&format!("[[{parent}]]"))
+    {
+        return (
+            parent.to_string(),
+            format!(
+                "is written [[{parent}]], an array of tables, but `{parent}` is one table: write [{parent}]"
+            ),
+        );
+    }
+    if got == "a table" && expected_words == "an array" && text.contains(&format!("[{key}]")) {
+        return (
+            key.clone(),
+            format!(
+                "is written [{key}], one table, but `{key}` is an array of tables: write [[{key}]] before each entry"
+            ),
+        );
+    }
+    (key, format!("must be {expected_words}, got {got}"))
 }
 
 /// Remove the table key at `path` (table keys and `[i]` array indices on the way) from `value`;
@@ -303,9 +351,7 @@ impl<'a> Checker<'a> {
         raw: &RawQuantity,
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
-        let v = self.finite(key, raw, dim);
-        let v = self.check(key, v, v > 0.0, "> 0", dim)?;
-        Ok(self.admissible(key, v, dim))
+        Ok(self.signed(key, raw, dim, true))
     }
 
     pub(super) fn non_negative(
@@ -314,9 +360,38 @@ impl<'a> Checker<'a> {
         raw: &RawQuantity,
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
+        Ok(self.signed(key, raw, dim, false))
+    }
+
+    /// A value that must be > 0 (`strict`) or >= 0, and within the key's admissible range if it
+    /// has one: one refusal, through the same message as every range ("must be in [0, 1000]
+    /// kg m^2 (why)"), the sign said too when the range does not imply it.
+    fn signed(&self, key: &str, raw: &RawQuantity, dim: Dimension, strict: bool) -> f64 {
         let v = self.finite(key, raw, dim);
-        let v = self.check(key, v, v >= 0.0, ">= 0", dim)?;
-        Ok(self.admissible(key, v, dim))
+        let sign = if strict { "> 0" } else { ">= 0" };
+        let sign_ok = if strict { v > 0.0 } else { v >= 0.0 };
+        if v.is_nan() || sign_ok {
+            return self.admissible(key, v, dim);
+        }
+        let unit = dim.si_unit();
+        let allowed = match super::limits::range_of(key) {
+            // The range excludes what the sign does: it says it all.
+            Some(r) if r.lo > 0.0 || (r.lo == 0.0 && (r.open_below || !strict)) => r.describe(dim),
+            Some(r) => format!("{sign} and {}", r.describe(dim)),
+            None => sign.to_string(),
+        };
+        self.record(key, format!("must be {allowed}, got {} {unit}", show(v)))
+    }
+
+    /// Whether a refusal was recorded for `prefix` or a key below it (`uncertain` covers
+    /// `uncertain.parameter[0].mean`).
+    pub(super) fn refused_under(&self, prefix: &str) -> bool {
+        self.errors.borrow().iter().any(|e| {
+            e.key == prefix
+                || e.key
+                    .strip_prefix(prefix)
+                    .is_some_and(|rest| rest.starts_with(['.', '[']))
+        })
     }
 }
 
@@ -406,11 +481,11 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         Length,
     )?;
     let damping = c.non_negative("model.pipe.damping", &m.pipe.damping, Rate)?;
-    let wall = chosen_law(c, "model.wall", &m.wall, WALL_LAWS)?;
+    let wall = chosen_law(c, "model.wall", &m.wall, WALL_LAWS, &["law"])?;
     // `inertia` belongs to the bit, not to its law: taken out before the law's table is checked.
     let mut bit_section = m.bit.clone();
     let inertia = bit_section.parameters.remove("inertia");
-    let bit = chosen_law(c, "model.bit", &bit_section, BIT_LAWS)?;
+    let bit = chosen_law(c, "model.bit", &bit_section, BIT_LAWS, &["law", "inertia"])?;
     let bit_inertia = match &inertia {
         Some(j) => c.non_negative("model.bit.inertia", j, MomentOfInertia)?,
         None => 0.0,
@@ -431,13 +506,15 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
 
 /// A law table (`[model.wall]`, `[model.bit]`, named `table`): the law of `registry` named by
 /// `law` (the registry's first when omitted), every parameter of its table read and checked
-/// against its range. Unknown keys and missing required parameters are recorded, each with the
-/// law's parameters named, and the rest is still checked; an unknown law ends the table.
+/// against its range. Unknown keys and missing required parameters are recorded, each with every
+/// key the table accepts named (`own`: the table's keys besides the law's parameters, such as
+/// `law` and the bit's `inertia`), and the rest is still checked; an unknown law ends the table.
 fn chosen_law<L: ?Sized + Law>(
     c: &Checker,
     table: &str,
     section: &LawSection,
     registry: &'static [LawEntry<L>],
+    own: &[&str],
 ) -> Result<Chosen<L>, ProblemError> {
     let entry = match &section.law {
         None => &registry[0],
@@ -455,7 +532,8 @@ fn chosen_law<L: ?Sized + Law>(
             c.record(
                 &format!("{table}.{unknown}"),
                 format!(
-                    "unknown field: not a parameter of law = {:?}; its parameters are {}",
+                    "unknown field: [{table}] accepts {} and the parameters of law = {:?}: {}",
+                    own.join(", "),
                     entry.name,
                     names.join(", ")
                 ),

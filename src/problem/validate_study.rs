@@ -99,6 +99,7 @@ pub(super) fn study(
         constraints,
         optimizer,
         expect,
+        overrides: Overrides::default(),
     })
 }
 
@@ -217,7 +218,9 @@ fn uncertain(
         }
         params.push(UncertainParameter { key, law });
     }
-    if params.is_empty() && u.samples > 1 {
+    // Entries refused above (a bad value, a misspelt key, `[[uncertain.parameters]]`) are
+    // reported once, where they were met: the section is not also called empty.
+    if params.is_empty() && u.samples > 1 && !c.refused_under("uncertain") {
         return Err(c.fail(
             "uncertain.parameter",
             format!(

@@ -29,7 +29,7 @@ pub(super) fn threshold(
                     let units: Vec<&str> = dim.units().iter().map(|u| u.0).collect();
                     format!(
                         "{metric} is {}: a number in {} or a string with one of the units {}",
-                        dimension_name(dim),
+                        dim.name(),
                         own_unit(metric, dim),
                         units.join(", ")
                     )
@@ -52,27 +52,5 @@ fn own_unit(metric: &str, dim: super::Dimension) -> &'static str {
         "fatigue_damage_per_h" => "1/h",
         "fatigue_life_h" => "h",
         _ => dim.si_unit(),
-    }
-}
-
-/// "a force", "a stress (pressure)": for messages.
-fn dimension_name(dim: super::Dimension) -> &'static str {
-    use super::Dimension::*;
-    match dim {
-        Dimensionless => "dimensionless",
-        Length => "a length",
-        Time => "a time",
-        Velocity => "a velocity",
-        AngularVelocity => "an angular velocity",
-        Force => "a force",
-        Pressure => "a stress (pressure)",
-        Density => "a density",
-        Acceleration => "an acceleration",
-        Rate | Frequency => "a rate",
-        InverseVelocity => "an inverse velocity",
-        Stiffness | CubicStiffness => "a stiffness",
-        Torque => "a torque",
-        Impulse => "an impulse",
-        MomentOfInertia => "a moment of inertia",
     }
 }

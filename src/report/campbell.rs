@@ -172,6 +172,11 @@ fn style_of(family: ModeFamily, whirl: Whirl) -> (RGBColor, bool, &'static str) 
         (ModeFamily::Bending, Whirl::Backward) => {
             (RGBColor(210, 50, 40), true, "bending, backward whirl")
         }
+        (ModeFamily::Bending, Whirl::Planar) => (
+            RGBColor(230, 140, 20),
+            false,
+            "bending, planar orbit (|\u{3ba}| \u{2264} 1e-3)",
+        ),
         (ModeFamily::Bending, Whirl::None) => {
             (RGBColor(120, 120, 120), false, "bending, no whirl sense")
         }

@@ -1,21 +1,68 @@
 //! `evaluations.csv` of `solve`, `map` and `compare`: every evaluation as a table a drilling
 //! engineer opens in a spreadsheet, one row per (operating point, Monte Carlo sample).
 //!
-//! Columns, in order: `omega_rpm`, `v0_m_per_h`, `sample` (index from 0), one column per
-//! uncertain parameter named by its key (`model.bit.limit_force`; the sample's value, SI), one
-//! column per metric of `summary.json` (its key, which carries the unit, e.g. `mse_pa`), then the
-//! point's `score` (the robust objective, the same on every row of a point; empty when a sample
-//! failed), `feasible` (`true`/`false`) and `failure` (why the sample or the point failed, else
-//! empty). A failed sample's metric cells are empty; +∞ (the MSE of a bit that did not advance)
-//! is written `inf`. The sample values are the evaluator's own draw (`RobustEvaluator::samples`),
-//! each checked against the sample's seed.
+//! Every column header carries its unit in brackets, in the driller's units the terminal uses
+//! (rpm, m/h, kN, kN·m, MPa; `[1]` for a pure number). Columns, in order: `omega [rpm]`,
+//! `v0 [m/h]`, `sample` (index from 0), one column per uncertain parameter named by its key
+//! (`model.bit.limit_force [kN]`: the sample's value), one column per metric of `summary.json`
+//! (its key with the SI suffix taken off, e.g. `mse [MPa]`, `stick_fraction [1]`; see
+//! [`metric_column`]), then the point's `score` (the robust objective, the same on every row of a
+//! point; empty when a sample failed; `[m/h]` for a score of ROP, `[1]` for efficiency),
+//! `feasible` (`true`/`false`) and `failure` (why the sample or the point failed, else empty).
+//!
+//! Numbers are written with 10 significant digits, as the shortest text that reads back to the
+//! rounded value (`55.3`, not `55.300000000000004` from the conversion of 55300 N to kN): enough
+//! to reproduce a point or a value, no round-off noise. A failed sample's metric cells are empty;
+//! +∞ (the MSE of a bit that did not advance) is written `inf`. The sample values are the
+//! evaluator's own draw (`RobustEvaluator::samples`), each checked against the sample's seed.
 
-use crate::problem::Problem;
-use crate::problem::study::METRICS;
+use crate::problem::study::{METRICS, Quantity};
+use crate::problem::{Dimension, Problem};
 use crate::stats::SampleSet;
 use crate::study::{PointEvaluation, SampleOutcome};
 use std::fmt::Write as _;
 use std::path::Path;
+
+/// The header of a metric's column and the factor from the metric's value (`summary.json`) to
+/// the column's unit: the key without its SI suffix, and the driller's unit of its dimension
+/// (`mean_wob_n` → `mean_wob [kN]`, 1e-3; `mean_rop_m_per_h` → `mean_rop [m/h]`, 1).
+/// `mean_rop_m_s` keeps its key (`mean_rop_m_s [m/s]`): the same ROP as `mean_rop`, in SI.
+pub fn metric_column(key: &str) -> (String, f64) {
+    if key == "mean_rop_m_s" {
+        return ("mean_rop_m_s [m/s]".into(), 1.0);
+    }
+    let (dim, per_si) =
+        crate::problem::study::metric_unit(key).unwrap_or((Dimension::Dimensionless, 1.0));
+    let (unit, scale) = match key {
+        "mean_rop_m_per_h" => ("m/h", 1.0),
+        "fatigue_damage_per_h" => ("1/h", 1.0),
+        "fatigue_life_h" => ("h", 1.0),
+        _ => {
+            let (unit, to_unit) = driller_unit(dim);
+            (unit, to_unit / per_si)
+        }
+    };
+    let base = ["_m_per_h", "_per_h", "_nm", "_ns", "_pa", "_n", "_m", "_h"]
+        .iter()
+        .find_map(|suffix| key.strip_suffix(suffix))
+        .unwrap_or(key);
+    (format!("{base} [{unit}]"), scale)
+}
+
+/// The unit a value of `dim` is shown in and the factor from SI to it: rpm, m/h, kN, kN·m, MPa,
+/// kN·s for the dimensions the terminal shows so; the SI unit otherwise (`1` for a pure number).
+pub fn driller_unit(dim: Dimension) -> (&'static str, f64) {
+    match dim {
+        Dimension::AngularVelocity => ("rpm", crate::units::RPM_PER_RAD_S),
+        Dimension::Velocity => ("m/h", crate::units::M_PER_H_PER_M_PER_S),
+        Dimension::Force => ("kN", 1e-3),
+        Dimension::Torque => ("kN·m", 1e-3),
+        Dimension::Pressure => ("MPa", 1e-6),
+        Dimension::Impulse => ("kN·s", 1e-3),
+        Dimension::Dimensionless => ("1", 1.0),
+        other => (other.si_unit(), 1.0),
+    }
+}
 
 /// The CSV text of `points` (see the module documentation).
 pub fn evaluations_csv<'a>(
@@ -24,22 +71,34 @@ pub fn evaluations_csv<'a>(
     points: impl IntoIterator<Item = &'a PointEvaluation>,
 ) -> String {
     let study = &problem.study;
-    let keys: Vec<&str> = study.uncertain.iter().map(|u| u.key.name()).collect();
+    let params: Vec<(String, f64)> = study
+        .uncertain
+        .iter()
+        .map(|u| {
+            let (unit, scale) = driller_unit(u.key.spec().dimension);
+            (format!("{} [{unit}]", u.key.name()), scale)
+        })
+        .collect();
+    let metrics: Vec<(String, f64)> = METRICS.iter().map(|k| metric_column(k)).collect();
 
-    let mut out = String::from("omega_rpm,v0_m_per_h,sample");
-    for k in keys.iter().chain(METRICS.iter()) {
+    let mut out = String::from("omega [rpm],v0 [m/h],sample");
+    for (header, _) in params.iter().chain(&metrics) {
         out.push(',');
-        out.push_str(k);
+        out.push_str(header);
     }
-    out.push_str(",score,feasible,failure\n");
+    let score_unit = match study.quantity {
+        Quantity::Rop => "m/h",
+        Quantity::Efficiency => "1",
+    };
+    let _ = writeln!(out, ",score [{score_unit}],feasible,failure");
     for p in points {
         let score = p.objective.map(number).unwrap_or_default();
         for s in &p.samples {
             let _ = write!(
                 out,
                 "{},{},{}",
-                driller(p.omega_rpm),
-                driller(p.v0_m_per_h),
+                number(p.omega_rpm),
+                number(p.v0_m_per_h),
                 s.sample
             );
             // The values this sample was evaluated with (its seed says it is the same draw).
@@ -48,20 +107,20 @@ pub fn evaluations_csv<'a>(
                 .get(s.sample)
                 .filter(|d| d.seed == s.seed)
                 .map(|d| d.values.as_slice());
-            for i in 0..keys.len() {
+            for (i, (_, scale)) in params.iter().enumerate() {
                 out.push(',');
                 if let Some(v) = drawn.and_then(|v| v.get(i)) {
-                    out.push_str(&number(*v));
+                    out.push_str(&number(scale * v));
                 }
             }
-            let (metrics, failure) = match &s.outcome {
+            let (values, failure) = match &s.outcome {
                 SampleOutcome::Metrics(m) => (Some(m), p.failure.as_deref()),
                 SampleOutcome::Failed(why) => (None, Some(why.as_str())),
             };
-            for key in METRICS {
+            for (key, (_, scale)) in METRICS.iter().zip(&metrics) {
                 out.push(',');
-                if let Some(v) = metrics.and_then(|m| m.get(key)) {
-                    out.push_str(&number(*v));
+                if let Some(v) = values.and_then(|m| m.get(*key)) {
+                    out.push_str(&number(scale * v));
                 }
             }
             let _ = writeln!(
@@ -86,16 +145,15 @@ pub fn write_evaluations_csv<'a>(
     super::write_atomic(&dir.join("evaluations.csv"), text.as_bytes())
 }
 
-/// The shortest text that reads back to `x` (`inf`, `-inf`, `NaN` for the non-finite).
+/// `x` to 10 significant digits, as the shortest text that reads back to that rounding (`90`,
+/// `55.3`, `1.234567891e-7`; `inf`, `-inf`, `NaN` for the non-finite): the round-off of a unit
+/// conversion (59.99999999999999 rpm) is not written.
 fn number(x: f64) -> String {
-    format!("{x}")
-}
-
-/// Ω in rpm or V0 in m/h to 10 significant digits: the round-off of the conversion from SI
-/// (59.99999999999999 rpm) is not what the user asked for.
-fn driller(x: f64) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
     let r: f64 = format!("{x:.9e}").parse().unwrap_or(x);
-    number(r)
+    format!("{r}")
 }
 
 /// A text cell: quoted when it holds a comma, a quote or a line break (RFC 4180).
@@ -202,30 +260,53 @@ cov = 0.1
         let header: Vec<&str> = lines[0].split(',').collect();
         assert_eq!(
             header[..4],
-            ["omega_rpm", "v0_m_per_h", "sample", "model.bit.limit_force"]
+            [
+                "omega [rpm]",
+                "v0 [m/h]",
+                "sample",
+                "model.bit.limit_force [kN]"
+            ]
         );
-        assert_eq!(header[4..4 + METRICS.len()], METRICS);
+        // Every metric column says its unit, and no two share a header.
+        for h in &header[4..4 + METRICS.len()] {
+            assert!(h.ends_with(']') && h.contains(" ["), "{h}");
+        }
+        let unique: std::collections::BTreeSet<&&str> = header.iter().collect();
+        assert_eq!(unique.len(), header.len());
         assert_eq!(
             header[4 + METRICS.len()..],
-            ["score", "feasible", "failure"]
+            ["score [m/h]", "feasible", "failure"]
         );
 
-        // Sample 0: its drawn Γ_BR, every metric, +∞ as `inf`.
+        // Sample 0: its drawn Γ_BR in kN to 10 digits, every metric, +∞ as `inf`.
         let row: Vec<&str> = lines[1].split(',').collect();
         assert_eq!(row.len(), header.len());
         assert_eq!(row[..3], ["90", "12", "0"]);
-        assert_eq!(row[3].parse::<f64>().unwrap(), drawn.samples[0].values[0]);
+        let gamma_kn: f64 = row[3].parse().unwrap();
+        assert!((gamma_kn - 1e-3 * drawn.samples[0].values[0]).abs() <= 1e-9 * gamma_kn);
+        assert!(
+            row[3].len() <= 12,
+            "10 significant digits at most: {}",
+            row[3]
+        );
         let cell = |key: &str| row[header.iter().position(|h| *h == key).unwrap()];
-        assert_eq!(cell("mean_rop_m_per_h"), "12.25");
-        assert_eq!(cell("mse_pa"), "inf");
-        assert_eq!(cell("stick_fraction"), "0.5");
+        assert_eq!(cell("mean_rop [m/h]"), "12.25");
+        assert_eq!(cell("mse [MPa]"), "inf");
+        assert_eq!(cell("stick_fraction [1]"), "0.5");
+        // 0.5 N is 0.0005 kN, 0.5 N·m 0.0005 kN·m, 0.5 Pa 5e-7 MPa: the driller's units.
+        assert_eq!(cell("mean_wob [kN]"), "0.0005");
+        assert_eq!(cell("mean_tob [kN·m]"), "0.0005");
+        assert_eq!(cell("max_von_mises [MPa]"), "0.0000005");
+        assert_eq!(cell("max_von_mises_at [m]"), "0.5");
+        assert_eq!(cell("fatigue_life [h]"), "0.5");
         assert_eq!(row[row.len() - 3..], ["", "false", "sample 1 failed"]);
 
         // Sample 1 failed: no metrics, its reason quoted (it holds a comma).
         let (cells, reason) = lines[2].split_once('"').unwrap();
         let row: Vec<&str> = cells.split(',').collect();
         assert_eq!(row[..3], ["90", "12", "1"]);
-        assert_eq!(row[3].parse::<f64>().unwrap(), drawn.samples[1].values[0]);
+        let gamma_kn: f64 = row[3].parse().unwrap();
+        assert!((gamma_kn - 1e-3 * drawn.samples[1].values[0]).abs() <= 1e-9 * gamma_kn);
         assert!(row[4..4 + METRICS.len()].iter().all(|c| c.is_empty()));
         assert_eq!(row[4 + METRICS.len()..], ["", "false", ""]);
         assert_eq!(reason, "step collapsed, at t = 0.5 s\"");

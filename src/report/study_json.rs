@@ -43,7 +43,10 @@ pub struct StudyHeader<'a> {
     #[serde(flatten)]
     pub record: ProblemRecord<'a>,
     pub seed: u64,
+    /// Monte Carlo samples per point that ran (the file's, or `--samples`).
     pub samples: usize,
+    /// What the command line changed (`samples`, `budget`, `threads`; null: the file's value).
+    pub overrides: crate::problem::study::Overrides,
 }
 
 impl<'a> StudyHeader<'a> {
@@ -52,6 +55,7 @@ impl<'a> StudyHeader<'a> {
             record: ProblemRecord::of(problem, file),
             seed: problem.study.seed,
             samples: problem.study.samples,
+            overrides: problem.study.overrides,
         }
     }
 }

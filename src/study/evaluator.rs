@@ -239,8 +239,18 @@ impl<'a> RobustEvaluator<'a> {
     }
 
     /// Evaluate several points: the (point, sample) simulations the cache cannot answer form one
-    /// batch for the executor; results are stored to the cache as they arrive.
+    /// batch for the executor; results are stored to the cache as they arrive. Each point is
+    /// first snapped to its canonical bits ([`crate::units::canonical_point`]): the same point
+    /// reached by the optimizer's scaling or by the parse of `--point` is the same cache entry,
+    /// and the returned evaluations are at the canonical points.
     pub fn evaluate(&self, points: &[OperatingPoint]) -> Vec<PointEvaluation> {
+        let points: Vec<OperatingPoint> = points
+            .iter()
+            .map(|op| {
+                let (omega, v0) = crate::units::canonical_point(op.omega, op.v0);
+                OperatingPoint { omega, v0 }
+            })
+            .collect();
         let n = self.samples.len();
         let jobs: Vec<SampleJob> = points
             .iter()

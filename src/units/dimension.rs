@@ -86,12 +86,12 @@ impl Dimension {
                 ("m/s", 1.0),
                 ("mm/s", 1e-3),
                 ("m/min", 1.0 / 60.0),
-                ("m/h", 1.0 / 3600.0),
+                ("m/h", super::M_S_PER_M_PER_H),
                 ("ft/h", 0.3048 / 3600.0),
             ],
             Dimension::AngularVelocity => &[
                 ("rad/s", 1.0),
-                ("rpm", 2.0 * PI / 60.0),
+                ("rpm", super::RAD_S_PER_RPM),
                 ("rev/s", 2.0 * PI),
                 ("Hz", 2.0 * PI),
             ],
@@ -194,7 +194,76 @@ impl Dimension {
         exact
             .or_else(folded)
             .map(|(_, factor)| value * factor)
-            .ok_or_else(|| UnitError::new(self, text, &format!("unknown unit `{unit}`")))
+            .ok_or_else(|| UnitError::new(self, text, &self.not_a_unit_of(unit)))
+    }
+
+    /// Every dimension, for messages.
+    pub const ALL: [Dimension; 17] = [
+        Dimension::Dimensionless,
+        Dimension::Length,
+        Dimension::Time,
+        Dimension::Velocity,
+        Dimension::AngularVelocity,
+        Dimension::Force,
+        Dimension::Pressure,
+        Dimension::Density,
+        Dimension::Acceleration,
+        Dimension::Rate,
+        Dimension::Frequency,
+        Dimension::InverseVelocity,
+        Dimension::Stiffness,
+        Dimension::CubicStiffness,
+        Dimension::MomentOfInertia,
+        Dimension::Torque,
+        Dimension::Impulse,
+    ];
+
+    /// "a force", "a stress (pressure)": the dimension in words, for messages.
+    pub fn name(self) -> &'static str {
+        use Dimension::*;
+        match self {
+            Dimensionless => "dimensionless",
+            Length => "a length",
+            Time => "a time",
+            Velocity => "a velocity",
+            AngularVelocity => "an angular velocity",
+            Force => "a force",
+            Pressure => "a stress (pressure)",
+            Density => "a density",
+            Acceleration => "an acceleration",
+            Rate => "a rate",
+            Frequency => "a frequency",
+            InverseVelocity => "an inverse velocity",
+            Stiffness => "a stiffness",
+            CubicStiffness => "a cubic stiffness",
+            Torque => "a torque",
+            Impulse => "an impulse",
+            MomentOfInertia => "a moment of inertia",
+        }
+    }
+
+    /// Why `unit` is refused for this dimension: a unit of another dimension is named as such
+    /// ("`MPa` is a unit of a stress (pressure), not of a force"), anything else is unknown.
+    fn not_a_unit_of(self, unit: &str) -> String {
+        let other = Dimension::ALL.iter().find(|d| {
+            d.units()
+                .iter()
+                .any(|(name, _)| *name == unit || name.eq_ignore_ascii_case(unit))
+        });
+        match other {
+            Some(d) if self == Dimension::Dimensionless => {
+                format!(
+                    "has the unit `{unit}` of {}, but the value is dimensionless",
+                    d.name()
+                )
+            }
+            Some(d) => format!(
+                "has the unit `{unit}` of {}, the wrong dimension: the value is {}",
+                d.name(),
+                self.name()
+            ),
+            None => format!("unknown unit `{unit}`"),
+        }
     }
 }
 
@@ -330,12 +399,24 @@ mod tests {
         close(Dimension::Torque.parse("2.5 kN·m").unwrap(), 2500.0);
         close(Dimension::Impulse.parse("3 kN·s").unwrap(), 3000.0);
         close(Dimension::Rate.parse("7.2 1/h").unwrap(), 0.002);
-        // A unit of another dimension is still refused, listing the oilfield units too.
+        // A unit of another dimension is refused as such, listing the oilfield units too.
         let err = Dimension::Density.parse("10 psi").unwrap_err().to_string();
         assert!(
-            err.contains("unknown unit `psi`") && err.contains("ppg, sg"),
+            err.contains(
+                "unit `psi` of a stress (pressure), the wrong dimension: the value is a density"
+            ) && err.contains("ppg, sg"),
             "{err}"
         );
+        let err = Dimension::Force.parse("20 MPa").unwrap_err().to_string();
+        assert!(
+            err.contains("wrong dimension: the value is a force") && err.contains("kN"),
+            "{err}"
+        );
+        let err = Dimension::Dimensionless
+            .parse("3 m")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("but the value is dimensionless"), "{err}");
     }
 
     #[test]

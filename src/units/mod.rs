@@ -30,9 +30,15 @@ pub fn to_rpm(omega_rad_s: f64) -> f64 {
     omega_rad_s * 30.0 / std::f64::consts::PI
 }
 
-/// Ω in rpm → rad/s.
+/// rad/s per rpm (2π/60): the factor of `rpm` in [`Dimension::units`], so that [`from_rpm`] and
+/// the parse of `"60rpm"` give the same bits.
+pub const RAD_S_PER_RPM: f64 = 2.0 * std::f64::consts::PI / 60.0;
+/// m/s per m/h (1/3600): the factor of `m/h` in [`Dimension::units`].
+pub const M_S_PER_M_PER_H: f64 = 1.0 / 3600.0;
+
+/// Ω in rpm → rad/s: the one conversion, the same arithmetic as the parse of `"<rpm> rpm"`.
 pub fn from_rpm(rpm: f64) -> f64 {
-    rpm * std::f64::consts::PI / 30.0
+    rpm * RAD_S_PER_RPM
 }
 
 /// V in m/s → m/h.
@@ -40,9 +46,34 @@ pub fn to_m_per_h(v_m_s: f64) -> f64 {
     v_m_s * M_PER_H_PER_M_PER_S
 }
 
-/// V in m/h → m/s.
+/// V in m/h → m/s: the one conversion, the same arithmetic as the parse of `"<v> m/h"`.
 pub fn from_m_per_h(v_m_h: f64) -> f64 {
-    v_m_h / M_PER_H_PER_M_PER_S
+    v_m_h * M_S_PER_M_PER_H
+}
+
+/// Significant digits of the driller's units an operating point is snapped to by
+/// [`canonical_point`]: far below any physical meaning (1e-12 relative), far above round-off.
+pub const POINT_DIGITS: usize = 12;
+
+/// The canonical bits of an operating point (Ω rad/s, V0 m/s): Ω in rpm and V0 in m/h rounded to
+/// [`POINT_DIGITS`] significant digits, converted back with [`from_rpm`] and [`from_m_per_h`].
+/// Every point a study evaluates goes through it, so that the same point reached by different
+/// arithmetic (the parse of `--point 60rpm,5m/h`, the optimizer's unit-box scaling, a grid node)
+/// has the same bits and the same evaluation-cache key. Idempotent; a point parsed from a
+/// decimal of at most 12 significant digits is unchanged.
+pub fn canonical_point(omega_rad_s: f64, v0_m_s: f64) -> (f64, f64) {
+    let round = |x: f64| -> f64 {
+        if x == 0.0 || !x.is_finite() {
+            return x;
+        }
+        format!("{x:.prec$e}", prec = POINT_DIGITS - 1)
+            .parse()
+            .unwrap_or(x)
+    };
+    (
+        from_rpm(round(to_rpm(omega_rad_s))),
+        from_m_per_h(round(to_m_per_h(v0_m_s))),
+    )
 }
 
 /// `x` with at most 4 decimals and no trailing zeros (`30`, `111.1111`, `0.25`), for messages.
@@ -78,6 +109,55 @@ mod tests {
         assert_eq!(super::show(-2.5e-300), "-2.5e-300");
         assert_eq!(super::show(0.005), "0.005");
         assert_eq!(super::show(f64::NAN), "NaN");
+    }
+}
+
+#[cfg(test)]
+mod point_tests {
+    use super::*;
+
+    #[test]
+    fn the_conversion_functions_and_the_parse_give_the_same_bits() {
+        for rpm in [1.0, 12.5, 40.0, 60.0, 77.7, 120.0, 1000.0] {
+            let parsed = Dimension::AngularVelocity
+                .parse(&format!("{rpm}rpm"))
+                .unwrap();
+            assert_eq!(from_rpm(rpm).to_bits(), parsed.to_bits(), "{rpm} rpm");
+        }
+        for v in [0.0, 2.0, 5.0, 11.0, 12.0, 20.0, 1000.0] {
+            let parsed = Dimension::Velocity.parse(&format!("{v}m/h")).unwrap();
+            assert_eq!(from_m_per_h(v).to_bits(), parsed.to_bits(), "{v} m/h");
+        }
+    }
+
+    #[test]
+    fn points_reached_by_other_arithmetic_snap_to_the_parsed_bits() {
+        // The unit-box scaling of the optimizer: lo + x (hi − lo). At 80 rpm, the middle of 40
+        // and 120 rpm (x = 1/2), it is one ulp away from the parse of "80rpm" (the cache missed).
+        let (lo, hi) = (from_rpm(40.0), from_rpm(120.0));
+        let scaled = lo + 0.5 * (hi - lo);
+        let parsed = Dimension::AngularVelocity.parse("80rpm").unwrap();
+        assert_ne!(
+            scaled.to_bits(),
+            parsed.to_bits(),
+            "the trap this guards against"
+        );
+        let (vlo, vhi) = (from_m_per_h(2.0), from_m_per_h(20.0));
+        let v_scaled = vlo + (1.0 / 6.0) * (vhi - vlo);
+        assert_ne!(v_scaled.to_bits(), from_m_per_h(5.0).to_bits());
+        let (w, v) = canonical_point(scaled, v_scaled);
+        assert_eq!(w.to_bits(), parsed.to_bits());
+        assert_eq!(
+            v.to_bits(),
+            Dimension::Velocity.parse("5m/h").unwrap().to_bits()
+        );
+        // Idempotent, and a parsed point is its own canonical point.
+        assert_eq!(canonical_point(w, v), (w, v));
+        let odd = (1.234_567_890_123_4, 3.3e-4);
+        let c = canonical_point(odd.0, odd.1);
+        assert_eq!(canonical_point(c.0, c.1), c);
+        assert!((c.0 - odd.0).abs() <= 1e-11 * odd.0 && (c.1 - odd.1).abs() <= 1e-11 * odd.1);
+        assert_eq!(canonical_point(1.0, 0.0).1, 0.0);
     }
 }
 

@@ -467,6 +467,38 @@ impl OptimizerSettings {
         }
     }
 
+    /// The same settings with `max_evaluations = n`, checked as the file's key is (in [3,
+    /// 100000]; for EGO above `initial_design`). The grid method has no budget: refused, saying
+    /// what sets its number of points.
+    pub fn with_max_evaluations(&self, n: usize) -> Result<Self, SettingsError> {
+        let mut s = self.clone();
+        match &mut s {
+            OptimizerSettings::TrustRegion(x) | OptimizerSettings::NelderMead(x) => {
+                x.max_evaluations = n;
+                x.validate()?;
+            }
+            OptimizerSettings::ParticleSwarm(x) => {
+                x.max_evaluations = n;
+                x.validate()?;
+            }
+            OptimizerSettings::Ego(x) => {
+                x.max_evaluations = n;
+                x.validate()?;
+            }
+            OptimizerSettings::EgoTrustRegion(x) => {
+                x.max_evaluations = n;
+                x.validate()?;
+            }
+            OptimizerSettings::Grid(_) => {
+                return Err(SettingsError {
+                    key: "max_evaluations",
+                    message: "method = \"grid\" evaluates every node of optimizer.grid and has no budget; change optimizer.grid, or choose a method with max_evaluations".into(),
+                });
+            }
+        }
+        Ok(s)
+    }
+
     /// Most design points the method evaluates: `max_evaluations`, or the grid's n² nodes
     /// (n = max(n_Ω, n_V0); nodes outside the linear constraints are skipped).
     pub fn budget(&self) -> usize {
@@ -478,5 +510,32 @@ impl OptimizerSettings {
             OptimizerSettings::Ego(s) => s.max_evaluations,
             OptimizerSettings::EgoTrustRegion(s) => s.max_evaluations,
         }
+    }
+}
+
+#[cfg(test)]
+mod budget_tests {
+    use super::*;
+
+    #[test]
+    fn a_budget_override_is_checked_as_the_key_is() {
+        let tr = OptimizerSettings::default();
+        let s = tr.with_max_evaluations(12).unwrap();
+        assert_eq!(s.budget(), 12);
+        assert_eq!(s.method(), Method::TrustRegion);
+        let e = tr.with_max_evaluations(2).unwrap_err();
+        assert_eq!(e.key, "max_evaluations");
+        assert!(e.message.contains("[3, 100000]"), "{e}");
+        // EGO: the budget must stay above the initial design (10 by default).
+        let ego = OptimizerSettings::Ego(EgoSettings::default());
+        assert_eq!(ego.with_max_evaluations(11).unwrap().budget(), 11);
+        let e = ego.with_max_evaluations(10).unwrap_err();
+        assert_eq!(e.key, "initial_design");
+        // EGO + trust region: EGO's share ⌊0.7 × 12⌋ = 8 is below the initial design, 10.
+        let etr = OptimizerSettings::EgoTrustRegion(EgoTrustRegionSettings::default());
+        assert!(etr.with_max_evaluations(12).is_err());
+        let grid = OptimizerSettings::Grid(GridSettings::default());
+        let e = grid.with_max_evaluations(20).unwrap_err();
+        assert!(e.message.contains("optimizer.grid"), "{e}");
     }
 }

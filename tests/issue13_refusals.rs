@@ -1,0 +1,173 @@
+//! Issue 13's fresh-user refusals of a problem file: one refusal per fault (no second message
+//! for the same entry), serde's type words replaced by what a key must be, every key a law table
+//! accepts listed, a unit of the wrong dimension said to be one, and the admissible range printed
+//! whatever the sign check.
+
+use drillopt::problem::Problem;
+use std::path::Path;
+
+fn base() -> String {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/regression/tiny_string.toml"
+    ))
+    .unwrap();
+    text[..text.find("[objective]").unwrap()].to_string()
+}
+
+/// The refusal lines of `text` (one per refused key).
+fn refusals(text: &str) -> Vec<String> {
+    match Problem::from_toml(text, Path::new("p.toml")) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e.to_string().lines().map(str::to_string).collect(),
+    }
+}
+
+fn one_refusal(text: &str, key: &str, parts: &[&str]) {
+    let lines = refusals(text);
+    assert_eq!(lines.len(), 1, "one refusal expected: {lines:#?}");
+    let line = &lines[0];
+    assert!(
+        line.contains("p.toml") && line.contains(&format!("`{key}`")),
+        "{line}"
+    );
+    for p in parts {
+        assert!(line.contains(p), "{line:?} lacks {p:?}");
+    }
+}
+
+const PARAMETER: &str = "[[uncertain.parameter]]\nkey = \"model.bit.rate\"\nlaw = \"gamma\"\n";
+
+#[test]
+fn a_refused_uncertain_parameter_is_not_also_called_empty() {
+    // A value of the only parameter refused: one line, not a second "is empty" for the same entry.
+    one_refusal(
+        &(base()
+            + "[uncertain]\nsamples = 4\n"
+            + PARAMETER
+            + "mean = \"180 furlongs\"\ncov = 0.1\n"),
+        "uncertain.parameter[0].mean",
+        &["unknown unit `furlongs`", "s/m"],
+    );
+    one_refusal(
+        &(base() + "[uncertain]\nsamples = 4\n" + PARAMETER + "mean = \"180 s/m\"\ncov = \"x\"\n"),
+        "uncertain.parameter[0].cov",
+        &["must be a number", "\"x\""],
+    );
+    // The entries misspelt as a whole.
+    one_refusal(
+        &(base()
+            + "[uncertain]\nsamples = 4\n[[uncertain.parameters]]\nkey = \"model.bit.rate\"\n"),
+        "uncertain.parameters",
+        &["unknown field", "parameter"],
+    );
+    // Truly empty is still refused.
+    one_refusal(
+        &(base() + "[uncertain]\nsamples = 4\n"),
+        "uncertain.parameter",
+        &["is empty", "at least one"],
+    );
+}
+
+#[test]
+fn a_misshapen_uncertain_section_is_refused_in_the_words_of_a_problem_file() {
+    one_refusal(
+        &(base() + "[[uncertain]]\nsamples = 4\n"),
+        "uncertain",
+        &[
+            "is written [[uncertain]], an array of tables",
+            "write [uncertain]",
+        ],
+    );
+    one_refusal(
+        &(base()
+            + "[uncertain]\nsamples = 4\n[uncertain.parameter]\nkey = \"model.bit.rate\"\nlaw = \"gamma\"\nmean = 180\ncov = 0.1\n"),
+        "uncertain.parameter",
+        &["one table", "write [[uncertain.parameter]]"],
+    );
+    one_refusal(
+        &(base() + "[uncertain]\nsamples = \"four\"\n"),
+        "uncertain.samples",
+        &["must be an integer, got string \"four\""],
+    );
+    one_refusal(
+        &(base() + "[[uncertan]]\nsamples = 4\n"),
+        "uncertan",
+        &["unknown field", "`uncertain`"],
+    );
+    for lines in [
+        refusals(&(base() + "[[uncertain]]\nsamples = 4\n")),
+        refusals(&(base() + "[uncertain]\nsamples = 2.5\n")),
+    ] {
+        assert!(
+            lines
+                .iter()
+                .all(|l| !l.contains("i64") && !l.contains("f64")),
+            "{lines:#?}"
+        );
+    }
+}
+
+#[test]
+fn an_unknown_key_of_the_bit_table_lists_every_accepted_key() {
+    let text = base().replace(
+        "friction = \"0.04 m\"",
+        "friction = \"0.04 m\"\ninertai = 0.4",
+    );
+    one_refusal(
+        &text,
+        "model.bit.inertai",
+        &["law, inertia", "limit_force, rate, friction"],
+    );
+    let text = base().replace("friction = 1e-5", "friction = 1e-5\nstiffnes = 1");
+    one_refusal(
+        &text,
+        "model.wall.stiffnes",
+        &["accepts law and the parameters", "stiffness"],
+    );
+}
+
+#[test]
+fn a_negative_value_gets_the_admissible_range_of_its_key() {
+    let text = base().replace(
+        "friction = \"0.04 m\"",
+        "friction = \"0.04 m\"\ninertia = -1",
+    );
+    one_refusal(
+        &text,
+        "model.bit.inertia",
+        &["must be in [0, 1000] kg m^2", "got -1"],
+    );
+    let text = base().replace(
+        "density = \"1200 kg/m^3\"",
+        "density = \"1200 kg/m^3\"\nannulus_density = \"-5 kg/m^3\"",
+    );
+    one_refusal(
+        &text,
+        "model.fluid.annulus_density",
+        &["must be in [0, 3000] kg/m3", "got -5"],
+    );
+    // A key whose range starts at 0 but must be > 0: the sign and the range, in one refusal.
+    let text = base().replace("length = \"8 m\"", "length = \"-8 m\"");
+    one_refusal(
+        &text,
+        "model.length",
+        &["must be in (0, 15000] m", "got -8"],
+    );
+}
+
+#[test]
+fn a_threshold_unit_of_the_wrong_dimension_is_called_so() {
+    let text = base()
+        + "[constraints]\nomega = [\"30 rpm\", \"150 rpm\"]\nv0 = [\"2 m/h\", \"20 m/h\"]\n[[constraints.chance]]\nmetric = \"mean_wob_n\"\nthreshold = \"20 MPa\"\nmax_probability = 0.1\n";
+    one_refusal(
+        &text,
+        "constraints.chance[0].threshold",
+        &[
+            "unit `MPa` of a stress (pressure), the wrong dimension: the value is a force",
+            "mean_wob_n is a force",
+            "kN",
+        ],
+    );
+    assert!(!refusals(&text)[0].contains("unknown unit"));
+}
