@@ -102,8 +102,12 @@ fn active(
         }
         out.push(found);
     }
-    if [omega, v0].iter().flatten().any(|x| x.is_nan()) || k.omega[0].is_nan() {
-        return Ok(out); // a range was refused where read
+    if [omega, v0, k.omega, k.v0]
+        .iter()
+        .flatten()
+        .any(|x| x.is_nan())
+    {
+        return Ok(out); // a range or bound was refused where read: not checked again
     }
     let reaches = |x: f64, bound: f64| (x - bound).abs() <= 1e-9 * bound.abs();
     let checks = [
