@@ -46,8 +46,8 @@ const SHIPPED: [(&str, &str); 7] = [
         include_str!("../problems/regression/tiny_string.toml"),
     ),
     (
-        "problems/regression/short_string.toml",
-        include_str!("../problems/regression/short_string.toml"),
+        "problems/regression/slim_pipe_buckling.toml",
+        include_str!("../problems/regression/slim_pipe_buckling.toml"),
     ),
 ];
 

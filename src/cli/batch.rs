@@ -185,6 +185,7 @@ mod tests {
             v0: [1e-3, 2e-3],
             objective: Some([1.0, 2.0]),
             reason: "test".into(),
+            active: None,
         };
         assert!(super::check(&e, 6.0, 1.5e-3, 1.5).0);
         let (pass, why) = super::check(&e, 9.0, 3e-3, 2.5);

@@ -10,6 +10,7 @@ pub mod limits;
 pub mod schema;
 pub mod study;
 mod validate;
+mod validate_expect;
 mod validate_fatigue;
 mod validate_study;
 mod validate_threshold;

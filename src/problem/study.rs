@@ -107,6 +107,9 @@ pub struct ExpectSection {
     pub v0: Vec<RawQuantity>,
     pub objective: Option<Vec<f64>>,
     pub reason: String,
+    /// The constraints that hold the expected optimum: `"omega.min"`, `"omega.max"`, `"v0.min"`,
+    /// `"v0.max"`, `"max_depth_of_cut"`, `"chance.<metric>"`; `[]` for none.
+    pub active: Option<Vec<String>>,
 }
 
 // ---------------------------------------------------------------- validated -------------------
@@ -176,13 +179,35 @@ pub use optimizer::{
     ParticleSwarmSettings, ParticleSwarmSettingsBuilder, SettingsError, TrustRegionSettings,
 };
 
-/// The optimum a regression problem is known to have.
+/// A constraint that holds a regression problem's expected optimum (`[expect] active`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ActiveConstraint {
+    /// The lower bound of Ω (`"omega.min"`).
+    OmegaMin,
+    /// The upper bound of Ω (`"omega.max"`).
+    OmegaMax,
+    /// The lower bound of V0 (`"v0.min"`).
+    V0Min,
+    /// The upper bound of V0 (`"v0.max"`).
+    V0Max,
+    /// A linear constraint, by its label (`"max_depth_of_cut"`).
+    Linear(&'static str),
+    /// A chance constraint, by its metric (`"chance.buckling_utilization"`).
+    Chance(String),
+}
+
+/// The optimum a regression problem is known to have: Ω in rad/s, V0 in m/s, the score in the
+/// objective's unit, each a closed range [min, max].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Expect {
     pub omega: [f64; 2],
     pub v0: [f64; 2],
     pub objective: Option<[f64; 2]>,
     pub reason: String,
+    /// The constraints that hold the optimum, as declared (`None`: not declared; empty: an
+    /// unconstrained optimum). Checked against the ranges: a bound is declared active exactly
+    /// when the expected range reaches it.
+    pub active: Option<Vec<ActiveConstraint>>,
 }
 
 #[derive(Debug, Clone, PartialEq)]

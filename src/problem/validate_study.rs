@@ -34,7 +34,11 @@ pub(super) fn study(
         .map(|k| constraints(c, k))
         .transpose()?;
     let optimizer = optimizer(c, raw.optimizer.as_ref(), constraints.as_ref())?;
-    let expect = raw.expect.as_ref().map(|e| expect(c, e)).transpose()?;
+    let expect = raw
+        .expect
+        .as_ref()
+        .map(|e| super::validate_expect::expect(c, e, constraints.as_ref()))
+        .transpose()?;
     // Risk terms and chance constraints penalise large values: the safety factor and the
     // critical speed margin (larger is safer) are refused there, in favour of their inverses;
     // the utilization needs a yield strength.
@@ -359,7 +363,7 @@ fn objective(
     Ok((quantity, stat, risk))
 }
 
-fn range(
+pub(super) fn range(
     c: &Checker,
     key: &str,
     raw: &[RawQuantity],
@@ -695,34 +699,4 @@ fn optimizer(
         }
     };
     settings.map_err(|e| c.fail(&format!("optimizer.{}", e.key), e.message))
-}
-
-fn expect(c: &Checker, e: &ExpectSection) -> Result<Expect, ProblemError> {
-    use super::Dimension::*;
-    let omega = range(c, "expect.omega", &e.omega, AngularVelocity)?;
-    let v0 = range(c, "expect.v0", &e.v0, Velocity)?;
-    let objective = match &e.objective {
-        None => None,
-        Some(o) if o.len() == 2 && o[0].is_finite() && o[1].is_finite() && o[0] <= o[1] => {
-            Some([o[0], o[1]])
-        }
-        Some(o) => {
-            return Err(c.fail(
-                "expect.objective",
-                format!("must be a finite pair [min, max] with min <= max, got {o:?}"),
-            ));
-        }
-    };
-    if e.reason.trim().is_empty() {
-        return Err(c.fail(
-            "expect.reason",
-            "must say how the expected ranges were established (e.g. a `drillopt map` run)".into(),
-        ));
-    }
-    Ok(Expect {
-        omega,
-        v0,
-        objective,
-        reason: e.reason.clone(),
-    })
 }

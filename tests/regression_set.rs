@@ -1,0 +1,236 @@
+//! Issue 14 item 7: the regression set (`problems/regression/`) is decided by physics. Read from the
+//! files themselves: at least three problems, each with an `[expect]` that declares the constraints
+//! holding its optimum (`active`, validated against the expected ranges); one optimum strictly
+//! inside the Ω bounds; one held by a physical limit (a chance constraint) with the V0 bound and the
+//! depth-of-cut line not the ones that stop it; each expected range at least one cell of the map it
+//! names wide. The buckling-limited optima are checked against Dawson & Paslay's closed form, and
+//! `solve` is run on one cheap problem and must land in its map's ranges.
+
+use drillopt::problem::Problem;
+use drillopt::problem::study::{ActiveConstraint, Expect};
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+const DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/regression");
+
+fn set() -> Vec<(PathBuf, Problem, Expect)> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(DIR)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|f| {
+            let p = Problem::load(&f).unwrap_or_else(|e| panic!("{e}"));
+            let e = p.study.expect.clone().unwrap_or_else(|| {
+                panic!("{}: every regression problem has [expect]", f.display())
+            });
+            (f, p, e)
+        })
+        .collect()
+}
+
+fn active(f: &Path, e: &Expect) -> Vec<ActiveConstraint> {
+    e.active
+        .clone()
+        .unwrap_or_else(|| panic!("{}: [expect] must declare `active`", f.display()))
+}
+
+/// `NxM` of the first "--grid NxM" in the file's text (the map its `[expect]` comes from).
+fn map_grid(f: &Path) -> [usize; 2] {
+    let text = std::fs::read_to_string(f).unwrap();
+    let at = text
+        .find("--grid ")
+        .unwrap_or_else(|| panic!("{}: the [expect] comment names its map", f.display()));
+    let word: String = text[at + 7..]
+        .chars()
+        .take_while(|c| c.is_ascii_alphanumeric())
+        .collect();
+    let (a, b) = word.split_once('x').expect("NxM");
+    [a.parse().unwrap(), b.parse().unwrap()]
+}
+
+#[test]
+fn the_set_has_an_interior_omega_optimum_and_one_held_by_a_physical_limit() {
+    let set = set();
+    assert!(set.len() >= 3, "at least three problems, got {}", set.len());
+    let mut interior = Vec::new();
+    let mut physical = Vec::new();
+    for (f, p, e) in &set {
+        let k = p.study.constraints.as_ref().unwrap();
+        let act = active(f, e);
+        // Validation ties `active` to the ranges; check it here from the numbers as well.
+        let inside = e.omega[0] > k.omega[0] && e.omega[1] < k.omega[1];
+        assert_eq!(
+            inside,
+            !act.contains(&ActiveConstraint::OmegaMin)
+                && !act.contains(&ActiveConstraint::OmegaMax),
+            "{}",
+            f.display()
+        );
+        if inside {
+            interior.push(p.name.clone());
+        }
+        let chance = act.iter().any(|a| matches!(a, ActiveConstraint::Chance(_)));
+        if chance && !act.contains(&ActiveConstraint::V0Max) && e.v0[1] < k.v0[1] {
+            physical.push(p.name.clone());
+        }
+        // Each range is at least one cell of its map wide (the map is finer than the tolerance).
+        let [n, m] = map_grid(f);
+        let cell = [
+            (k.omega[1] - k.omega[0]) / (n - 1) as f64,
+            (k.v0[1] - k.v0[0]) / (m - 1) as f64,
+        ];
+        assert!(
+            e.omega[1] - e.omega[0] >= cell[0],
+            "{}: Ω range narrower than a map cell",
+            f.display()
+        );
+        assert!(
+            e.v0[1] - e.v0[0] >= cell[1],
+            "{}: V0 range narrower than a map cell",
+            f.display()
+        );
+    }
+    assert!(
+        !interior.is_empty(),
+        "no optimum strictly inside the Ω bounds"
+    );
+    assert!(
+        !physical.is_empty(),
+        "no optimum held by a chance constraint below the V0 bound"
+    );
+}
+
+/// Dawson & Paslay's sinusoidal buckling load of a pipe lying in a horizontal hole,
+/// F_sin = 2 √(E I w / r), w the buoyed weight per length, r the radial clearance (N).
+fn f_sin(p: &Problem) -> f64 {
+    let m = &p.model;
+    let (ro, ri) = (m.pipe.outer_radius, m.pipe.inner_radius);
+    let i = PI / 4.0 * (ro.powi(4) - ri.powi(4));
+    let steel = m.pipe.density * PI * (ro * ro - ri * ri);
+    let inside = m.fluid_density * PI * ri * ri;
+    let outside = m.annulus_density * PI * ro * ro;
+    let w = (steel + inside - outside) * m.gravity;
+    2.0 * (m.pipe.youngs_modulus * i * w / (m.borehole_radius - ro)).sqrt()
+}
+
+#[test]
+fn buckling_limited_optima_lie_below_the_closed_form_buckling_feed() {
+    // The steady WOB at feed V0 is Γ(1 − e^(−α V0)); the peak compression is at least that, so an
+    // optimum held by "no sinusoidal buckling" has WOB < F_sin at every V0 of its range.
+    let mut limited = Vec::new();
+    for (f, p, e) in set() {
+        if !active(&f, &e).contains(&ActiveConstraint::Chance("buckling_utilization".into())) {
+            continue;
+        }
+        let law = |name: &str| {
+            p.model.bit.get(name).unwrap_or_else(|| {
+                panic!("{}: the exponential bit law's {name} expected", f.display())
+            })
+        };
+        let (gamma, alpha) = (law("limit_force"), law("rate"));
+        let fs = f_sin(&p);
+        let v_buckle = -(1.0 - fs / gamma).ln() / alpha;
+        assert!(
+            e.v0[1] <= v_buckle,
+            "{}: expected V0 up to {} m/h beyond the quasi-static buckling feed {} m/h (F_sin {} kN)",
+            f.display(),
+            e.v0[1] * 3600.0,
+            v_buckle * 3600.0,
+            fs / 1e3
+        );
+        limited.push((fs, e.v0, p.name.clone()));
+    }
+    assert!(limited.len() >= 2, "{limited:?}");
+    // A lower buckling load stops the feed earlier: the ranges are ordered as the loads are.
+    limited.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for w in limited.windows(2) {
+        assert!(w[0].1[1] < w[1].1[0], "{w:?}");
+    }
+}
+
+/// `drillopt solve` on the cheapest physics-decided problem lands in the ranges its map gave
+/// (`drillopt batch problems` in CI checks every problem of the set the same way).
+#[test]
+fn solve_reaches_the_maps_optimum_of_the_buckling_limited_problem() {
+    let file = Path::new(DIR).join("slim_pipe_buckling.toml");
+    let e = Problem::load(&file).unwrap().study.expect.unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(["solve", file.to_str().unwrap(), "--quiet", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.path().join("solution.json")).unwrap();
+    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let omega = s["optimum"]["omega_rad_s"].as_f64().unwrap();
+    let v0 = s["optimum"]["v0_m_s"].as_f64().unwrap();
+    let score = s["objective"]["score"].as_f64().unwrap();
+    assert!(
+        (e.omega[0]..=e.omega[1]).contains(&omega),
+        "Ω {} rpm",
+        omega * 30.0 / PI
+    );
+    assert!((e.v0[0]..=e.v0[1]).contains(&v0), "V0 {} m/h", v0 * 3600.0);
+    let [lo, hi] = e.objective.unwrap();
+    assert!((lo..=hi).contains(&score), "score {score}");
+    // The limit holds the optimum: feasible, and within a map cell of where it bites.
+    assert_eq!(s["constraints"]["chance"][0]["satisfied"], true);
+}
+
+/// `[expect] active` is refused, naming the file and the key, when it names no constraint of the
+/// problem or disagrees with the expected ranges.
+#[test]
+fn expect_active_is_validated_against_the_constraints_and_ranges() {
+    let tiny = include_str!("../problems/regression/tiny_string.toml");
+    let line = "active = [\"v0.max\", \"max_depth_of_cut\"]";
+    assert_eq!(tiny.matches(line).count(), 1);
+    let load = |active: &str| {
+        Problem::from_toml(&tiny.replace(line, active), Path::new("cases/active.toml"))
+            .map(|p| p.study.expect.unwrap().active)
+            .map_err(|e| e.to_string())
+    };
+    assert_eq!(
+        load(line).unwrap(),
+        Some(vec![
+            ActiveConstraint::V0Max,
+            ActiveConstraint::Linear("max_depth_of_cut")
+        ])
+    );
+    let refusals = [
+        // no such constraint in this problem (it has no chance constraint)
+        (
+            "active = [\"v0.max\", \"chance.stick_slip_severity\"]",
+            "expect.active[1]",
+            "not a constraint of this problem",
+        ),
+        (
+            "active = [\"v0.max\", \"v0.max\"]",
+            "expect.active[1]",
+            "twice",
+        ),
+        // the V0 range [17, 20] m/h reaches the bound: it must be declared
+        ("active = [\"max_depth_of_cut\"]", "expect.active", "v0.max"),
+        // the Ω range [105, 135] rpm is inside the bounds: the lower bound cannot hold the optimum
+        (
+            "active = [\"v0.max\", \"omega.min\"]",
+            "expect.active",
+            "does not reach",
+        ),
+    ];
+    for (active, key, why) in refusals {
+        let e = load(active).unwrap_err();
+        assert!(
+            e.contains("cases/active.toml") && e.contains(&format!("`{key}`")) && e.contains(why),
+            "{active}: {e}"
+        );
+    }
+}
