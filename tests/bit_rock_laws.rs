@@ -69,7 +69,12 @@ fn unknown_laws_foreign_keys_and_missing_parameters_are_refused_by_key() {
     refused(
         &t.replace("friction = 0.6 ", "rate = \"180 s/m\"\nfriction = 0.6 "),
         "model.bit.rate",
-        &["not a parameter of law = \"detournay\"", "specific_energy"],
+        &[
+            "unknown field",
+            "parameters of law = \"detournay\"",
+            "specific_energy",
+            "inertia",
+        ],
     );
     refused(
         &t.replace("wear_flat_length = \"3 mm\"", ""),
@@ -86,7 +91,7 @@ fn unknown_laws_foreign_keys_and_missing_parameters_are_refused_by_key() {
     refused(
         &seed.replace("[model.bit]", "[model.bit]\nradius = \"70 mm\""),
         "model.bit.radius",
-        &["not a parameter of law = \"exponential\"", "limit_force"],
+        &["the parameters of law = \"exponential\"", "limit_force"],
     );
 }
 

@@ -48,7 +48,7 @@ fn the_key_is_read_in_any_density_unit_and_refused_outside_its_range_by_name() {
     assert!((p.model.annulus_density - 1198.26427).abs() < 1e-6);
     for (value, words) in [
         ("\"5000 kg/m^3\"", "in [0, 3000] kg/m3"),
-        ("-1", ">= 0"),
+        ("-1", "must be in [0, 3000] kg/m3"),
         ("\"1.2 bar\"", "unknown unit"),
     ] {
         let err = load(&with_annulus(value)).unwrap_err();

@@ -89,7 +89,7 @@ fn unknown_laws_foreign_keys_and_missing_parameters_are_refused_by_key_in_one_pa
     );
     let msg = err.to_string();
     for w in [
-        "not a parameter of law = \"hunt_crossley\"",
+        "the parameters of law = \"hunt_crossley\"",
         "restitution, impact_speed",
         "is required by law = \"hunt_crossley\"",
     ] {
