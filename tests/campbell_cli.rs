@@ -2,17 +2,9 @@
 //! metrics are reported (summary.json) and where studies read them (problem validation).
 
 mod common;
+use common::drillopt;
 
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn drillopt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_drillopt"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("drillopt runs")
-}
 
 fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()

@@ -2,9 +2,12 @@
 //! under their keys' rules and recorded in the report; a compare at a point a solve evaluated
 //! finds it in the evaluation cache (the same bits through one conversion of rpm and m/h).
 
+mod common;
+use common::drillopt;
+
 use serde_json::Value;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 const TINY: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -29,14 +32,6 @@ fn problem(dir: &Path, name: &str, replace: &[(&str, &str)], extra: &str) -> Str
     let path = dir.join(format!("{name}.toml"));
     std::fs::write(&path, text).unwrap();
     path.to_str().unwrap().to_string()
-}
-
-fn drillopt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_drillopt"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("drillopt runs")
 }
 
 fn ok(out: &Output) {

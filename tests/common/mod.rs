@@ -153,3 +153,12 @@ pub fn tiny_run_metrics(p: &drillopt::problem::Problem) -> Vec<(&'static str, f6
         .named_values()
         .to_vec()
 }
+
+/// Runs the built `drillopt` binary with `args` from the crate root and returns its output.
+pub fn drillopt(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("drillopt runs")
+}
