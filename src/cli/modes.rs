@@ -16,8 +16,8 @@ pub struct ModesArgs {
     #[arg(long)]
     pub count: Option<usize>,
     /// Print JSON {"problem", "dof", "free_dof", "basis": {"bending", "torsional", "axial",
-    /// "static_corrections"}, "modes": [{"index", "freq_hz", "family", "kind"}]} instead of a
-    /// table (kind: "mode" or "static_correction").
+    /// "static_corrections", "resting_shapes"}, "modes": [{"index", "freq_hz", "family", "kind"}]}
+    /// instead of a table (kind: "mode", "static_correction" or "resting_shape").
     #[arg(long)]
     pub json: bool,
 }
@@ -89,6 +89,7 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
                 match m.kind {
                     ModeKind::Normal => "mode",
                     ModeKind::StaticCorrection => "static correction",
+                    ModeKind::RestingShape => "resting shape",
                 }
             );
         }

@@ -1,6 +1,6 @@
 //! Global assembly of the element matrices on a uniform mesh of N elements.
 
-use super::{BeamElement, DOF_PER_NODE, ELEMENT_DOF};
+use super::{BeamElement, DOF_PER_NODE, ELEMENT_DOF, Lateral};
 use crate::model::{Drillstring, Section};
 use faer::{Col, Mat};
 
@@ -66,4 +66,19 @@ pub fn assemble(string: &Drillstring, elements: usize) -> GlobalMatrices {
         element,
         elements,
     }
+}
+
+/// The consistent load of the string's buoyed weight acting along −`axis`, on the full
+/// 6(N+1) DOF of `elements` equal elements ([`BeamElement::weight_load`]); along −z it equals
+/// [`GlobalMatrices::gravity`]. N and N·m.
+pub fn weight_load(string: &Drillstring, elements: usize, axis: Lateral) -> Vec<f64> {
+    let element = BeamElement::new(string.length / elements as f64, Section::of(string));
+    let fe = element.weight_load(string.gravity, axis);
+    let mut load = vec![0.0; DOF_PER_NODE * (elements + 1)];
+    for e in 0..elements {
+        for (i, f) in fe.iter().enumerate() {
+            load[DOF_PER_NODE * e + i] += f;
+        }
+    }
+    load
 }

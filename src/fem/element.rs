@@ -13,6 +13,13 @@ pub type ElementMatrix = SMatrix<f64, ELEMENT_DOF, ELEMENT_DOF>;
 /// A 12-vector of element DOFs or forces.
 pub type ElementVector = SVector<f64, ELEMENT_DOF>;
 
+/// A lateral axis of the section: y (horizontal) or z (vertical, gravity along −z).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Lateral {
+    Y,
+    Z,
+}
+
 /// A straight element of a uniform section.
 #[derive(Debug, Clone, Copy)]
 pub struct BeamElement {
@@ -99,12 +106,23 @@ impl BeamElement {
     /// Consistent gravity load, Eq. (15) with buoyancy: −(ρA + ρ_f A_f − ρ_a π R_ext²) g on w
     /// ([`Section::weight_mass`]; the paper's −(ρA + ρ_f A_f) g without annulus fluid), N and N·m.
     pub fn gravity_load(&self, gravity: f64) -> ElementVector {
+        self.weight_load(gravity, Lateral::Z)
+    }
+
+    /// The consistent load of the string's buoyed weight per length acting along −`axis`
+    /// ([`Self::gravity_load`] is the one along −z, the real one): along −y it is the twin load
+    /// of the other bending plane, on v with its θz moments. N and N·m.
+    pub fn weight_load(&self, gravity: f64, axis: Lateral) -> ElementVector {
         let q = -self.section.weight_mass() * gravity;
+        let row = match axis {
+            Lateral::Y => 1,
+            Lateral::Z => 2,
+        };
         let (xs, ws) = gauss_legendre_4(self.length);
         xs.iter()
             .zip(ws)
             .fold(ElementVector::zeros(), |acc, (&x, w)| {
-                acc + self.interpolation(x).value.row(2).transpose() * (q * w)
+                acc + self.interpolation(x).value.row(row).transpose() * (q * w)
             })
     }
 

@@ -21,10 +21,10 @@ mod stress;
 #[cfg(test)]
 mod test_support;
 
-pub use assembly::{GlobalMatrices, assemble};
+pub use assembly::{GlobalMatrices, assemble, weight_load};
 pub use boundary::BoundaryConditions;
 pub use dof::{DOF_PER_NODE, Dof};
-pub use element::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector};
+pub use element::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector, Lateral};
 pub use inertia::ElementInertia;
 pub use shape::{Interpolation, gauss_legendre_4};
 pub use sparse::{SparseGlobal, SymmetricSparse, assemble_sparse};

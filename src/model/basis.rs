@@ -52,7 +52,9 @@ pub enum BasisSpec {
         axial: FamilySize,
         /// Add the static corrections of a unit bit force (axial) and bit torque (torsional),
         /// M-orthogonalised against the kept modes (Craig & Kurdila, *Fundamentals of Structural
-        /// Dynamics*, 2nd ed., §14.4: the mode-acceleration / attachment-mode correction).
+        /// Dynamics*, 2nd ed., §14.4: the mode-acceleration / attachment-mode correction), and
+        /// the resting shape of each bending plane (the static deflection under the string's
+        /// weight with the wall's contact, `rom::resting`): four vectors.
         static_corrections: bool,
     },
 }

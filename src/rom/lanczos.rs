@@ -43,14 +43,14 @@ pub fn lanczos_applies(n: usize, count: usize) -> bool {
 }
 
 /// A sparse Cholesky factor L (A = L Lᵀ) in the natural order.
-struct SparseCholesky {
+pub(super) struct SparseCholesky {
     symbolic: simplicial::SymbolicSimplicialCholesky<usize>,
     values: Vec<f64>,
 }
 
 impl SparseCholesky {
     /// Factor `a`; `Err(pivot)` is the row where a non-positive pivot appeared.
-    fn new(a: &SymmetricSparse) -> Result<Self, usize> {
+    pub(super) fn new(a: &SymmetricSparse) -> Result<Self, usize> {
         let n = a.size();
         // The upper triangle, which is all simplicial Cholesky reads.
         let (cp, ri, va) = a.parts();

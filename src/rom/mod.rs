@@ -8,6 +8,7 @@ mod operator;
 mod padded;
 mod pencil;
 mod reduced;
+mod resting;
 mod sparse;
 
 pub use blocks::{BlockBasis, BlockWork};

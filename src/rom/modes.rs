@@ -9,11 +9,13 @@
 //! labelled by the family that holds most of its kinetic energy φᵢ (M φ)ᵢ.
 
 use super::eigen::EigenError;
-use super::pencil::{Pencil, bit_loads, solve_block};
+use super::pencil::{Pencil, RitzLoads, bit_loads, solve_block};
+use super::resting::BlockRest;
 use crate::fem::{
-    BoundaryConditions, Dof, GlobalMatrices, SparseGlobal, assemble, assemble_sparse,
+    BoundaryConditions, Dof, GlobalMatrices, Lateral, SparseGlobal, assemble, assemble_sparse,
+    weight_load,
 };
-use crate::model::{BasisSpec, Drillstring, FamilySize};
+use crate::model::{BasisSpec, Drillstring, FamilySize, WallContactLaw};
 use faer::{Mat, Par};
 use serde::Serialize;
 use std::fmt;
@@ -77,6 +79,10 @@ pub enum ModeKind {
     /// The static response to a unit bit load, M-orthogonalised against the kept normal modes
     /// (a Ritz vector: K- and M-orthogonal to them, with its Rayleigh quotient as ω²).
     StaticCorrection,
+    /// The string's resting shape in one bending plane: its static deflection under its weight
+    /// with the wall's contact ([`super::resting`]), M-orthogonalised against the plane's kept
+    /// modes. Part of the basis when the static corrections are asked for.
+    RestingShape,
 }
 
 /// One vector of the reduced basis.
@@ -104,11 +110,15 @@ pub struct BasisCounts {
     pub bending: usize,
     pub torsional: usize,
     pub axial: usize,
+    /// Static responses to the unit bit force and torque.
     pub static_corrections: usize,
+    /// Resting shapes of the bending planes ([`ModeKind::RestingShape`]).
+    pub resting_shapes: usize,
 }
 
 impl fmt::Display for BasisCounts {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let plural = |n: usize| if n == 1 { "" } else { "s" };
         write!(
             f,
             "{} bending (both planes), {} torsional, {} axial, {} static correction{}",
@@ -116,12 +126,17 @@ impl fmt::Display for BasisCounts {
             self.torsional,
             self.axial,
             self.static_corrections,
-            if self.static_corrections == 1 {
-                ""
-            } else {
-                "s"
-            }
-        )
+            plural(self.static_corrections)
+        )?;
+        if self.resting_shapes > 0 {
+            write!(
+                f,
+                ", {} resting shape{}",
+                self.resting_shapes,
+                plural(self.resting_shapes)
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -179,11 +194,39 @@ impl ModalBasis {
         spec: &BasisSpec,
     ) -> Result<Self, BasisError> {
         let bc = BoundaryConditions::drillstring(elements);
-        if Self::sparse_mesh(elements) {
-            Self::of_sparse(&assemble_sparse(string, elements), &bc, spec, Par::Seq)
+        let rest = Rest::of(string, elements);
+        let basis = if Self::sparse_mesh(elements) {
+            let global = assemble_sparse(string, elements);
+            build(
+                &Self::sparse_pencil(&global, &bc),
+                &bc,
+                spec,
+                Some(&rest),
+                Par::Seq,
+            )
         } else {
-            Self::of(&assemble(string, elements), &bc, spec, Par::Seq)
-        }
+            Self::build(
+                &assemble(string, elements),
+                &bc,
+                spec,
+                Some(&rest),
+                Par::Seq,
+            )
+        };
+        basis?.check_families(spec)
+    }
+
+    /// [`Self::of`] with the resting shapes of `string` (when `spec` asks for static
+    /// corrections): the basis [`Self::compute`] gives, on matrices already assembled.
+    pub fn of_string(
+        global: &GlobalMatrices,
+        string: &Drillstring,
+        bc: &BoundaryConditions,
+        spec: &BasisSpec,
+        par: Par,
+    ) -> Result<Self, BasisError> {
+        let rest = Rest::of(string, global.elements);
+        Self::build(global, bc, spec, Some(&rest), par)?.check_families(spec)
     }
 
     /// The `count` lowest modes of the drillstring on `elements` elements (no family check),
@@ -197,9 +240,15 @@ impl ModalBasis {
         let spec = BasisSpec::Lowest(count);
         let basis = if Self::sparse_mesh(elements) {
             let global = assemble_sparse(string, elements);
-            build(&Self::sparse_pencil(&global, &bc), &bc, &spec, Par::Seq)
+            build(
+                &Self::sparse_pencil(&global, &bc),
+                &bc,
+                &spec,
+                None,
+                Par::Seq,
+            )
         } else {
-            Self::build(&assemble(string, elements), &bc, &spec, Par::Seq)
+            Self::build(&assemble(string, elements), &bc, &spec, None, Par::Seq)
         };
         unwrap_eigen(basis)
     }
@@ -211,18 +260,25 @@ impl ModalBasis {
         count: usize,
         par: Par,
     ) -> Result<Self, EigenError> {
-        unwrap_eigen(Self::build(global, bc, &BasisSpec::Lowest(count), par))
+        unwrap_eigen(Self::build(
+            global,
+            bc,
+            &BasisSpec::Lowest(count),
+            None,
+            par,
+        ))
     }
 
-    /// The basis `spec` of assembled matrices under the given boundary conditions; refused when
-    /// a family (bending, torsional, axial) is left without a vector.
+    /// The basis `spec` of assembled matrices under the given boundary conditions, without the
+    /// resting shapes (they need the wall: [`Self::of_string`]); refused when a family (bending,
+    /// torsional, axial) is left without a vector.
     pub fn of(
         global: &GlobalMatrices,
         bc: &BoundaryConditions,
         spec: &BasisSpec,
         par: Par,
     ) -> Result<Self, BasisError> {
-        Self::build(global, bc, spec, par)?.check_families(spec)
+        Self::build(global, bc, spec, None, par)?.check_families(spec)
     }
 
     /// [`Self::of`] on sparse matrices: no dense storage; blocks above
@@ -234,7 +290,7 @@ impl ModalBasis {
         spec: &BasisSpec,
         par: Par,
     ) -> Result<Self, BasisError> {
-        build(&Self::sparse_pencil(global, bc), bc, spec, par)?.check_families(spec)
+        build(&Self::sparse_pencil(global, bc), bc, spec, None, par)?.check_families(spec)
     }
 
     fn sparse_pencil<'a>(global: &'a SparseGlobal, bc: &BoundaryConditions) -> Pencil<'a> {
@@ -268,6 +324,7 @@ impl ModalBasis {
         global: &GlobalMatrices,
         bc: &BoundaryConditions,
         spec: &BasisSpec,
+        rest: Option<&Rest<'_>>,
         par: Par,
     ) -> Result<Self, BasisError> {
         let pencil = Pencil::Dense {
@@ -275,7 +332,7 @@ impl ModalBasis {
             m: bc.reduce(&global.mass),
             full_mass: global.mass.as_ref(),
         };
-        build(&pencil, bc, spec, par)
+        build(&pencil, bc, spec, rest, par)
     }
 
     /// Number of basis vectors.
@@ -299,12 +356,31 @@ impl ModalBasis {
         for m in &self.modes {
             match (m.kind, m.family) {
                 (ModeKind::StaticCorrection, _) => c.static_corrections += 1,
+                (ModeKind::RestingShape, _) => c.resting_shapes += 1,
                 (_, Family::Axial) => c.axial += 1,
                 (_, Family::Torsional) => c.torsional += 1,
                 (_, Family::BendingY | Family::BendingZ) => c.bending += 1,
             }
         }
         c
+    }
+}
+
+/// What the resting shapes need beyond (K, M): the weight loads along −y and −z on the full
+/// DOF set, and the wall.
+pub(super) struct Rest<'a> {
+    weight: [Vec<f64>; 2],
+    law: &'a dyn WallContactLaw,
+    gap: f64,
+}
+
+impl<'a> Rest<'a> {
+    fn of(string: &'a Drillstring, elements: usize) -> Self {
+        Rest {
+            weight: [Lateral::Y, Lateral::Z].map(|axis| weight_load(string, elements, axis)),
+            law: string.wall.law(),
+            gap: string.gap(),
+        }
     }
 }
 
@@ -322,6 +398,7 @@ fn build(
     pencil: &Pencil<'_>,
     bc: &BoundaryConditions,
     spec: &BasisSpec,
+    rest: Option<&Rest<'_>>,
     par: Par,
 ) -> Result<ModalBasis, BasisError> {
     let n = pencil.size();
@@ -336,12 +413,32 @@ fn build(
         }
         .into());
     }
-    let loads = match spec {
+    let corrections = matches!(
+        spec,
         BasisSpec::PerFamily {
             static_corrections: true,
             ..
-        } => Some(bit_loads(&free, bc.dof())),
-        _ => None,
+        }
+    );
+    let loads = corrections.then(|| bit_loads(&free, bc.dof()));
+    let rest = rest.filter(|_| corrections);
+    // The resting-shape problem of a bending block: its weight load and the rows of its nodes'
+    // lateral translations.
+    let block_rest = |block: &[usize], family: Option<Family>| {
+        let rest = rest?;
+        let (translation, load) = match family? {
+            Family::BendingY => (Dof::V, &rest.weight[0]),
+            Family::BendingZ => (Dof::W, &rest.weight[1]),
+            Family::Axial | Family::Torsional => return None,
+        };
+        Some(BlockRest {
+            load: block.iter().map(|&r| load[free[r]]).collect(),
+            contact: (0..block.len())
+                .filter(|&i| Dof::of_index(free[block[i]]) == translation)
+                .collect(),
+            law: rest.law,
+            gap: rest.gap,
+        })
     };
     let mut chosen: Vec<Candidate> = Vec::new();
     for (b, block) in pencil.blocks().into_iter().enumerate() {
@@ -365,10 +462,22 @@ fn build(
                 Family::BendingY | Family::BendingZ => *bending,
             },
         };
+        let rest = block_rest(&block, family);
         chosen.extend(
-            solve_block(pencil, &block, family, size, loads, &family_of, par)?
-                .into_iter()
-                .map(|c| Candidate { block: b, ..c }),
+            solve_block(
+                pencil,
+                &block,
+                family,
+                size,
+                RitzLoads {
+                    bit: loads,
+                    rest: rest.as_ref(),
+                },
+                &family_of,
+                par,
+            )?
+            .into_iter()
+            .map(|c| Candidate { block: b, ..c }),
         );
     }
     chosen.sort_by(|a, b| a.lambda.total_cmp(&b.lambda));

@@ -12,6 +12,7 @@
 use super::eigen::{EigenError, generalized_symmetric_eigen};
 use super::lanczos::{lanczos_applies, sparse_generalized_eigen, sparse_unit_response};
 use super::modes::{Candidate, Family, ModeKind};
+use super::resting::BlockRest;
 use crate::fem::{DOF_PER_NODE, Dof, SymmetricSparse};
 use crate::model::FamilySize;
 use faer::{Mat, MatRef, Par, Side};
@@ -142,17 +143,27 @@ impl Pencil<'_> {
     }
 }
 
+/// The load-dependent Ritz vectors asked of a block, beside its normal modes.
+#[derive(Clone, Copy)]
+pub(super) struct RitzLoads<'a> {
+    /// Free-DOF indices of the bit's u and θx, whose unit loads give the static corrections.
+    pub bit: Option<[usize; 2]>,
+    /// The block's resting-shape problem (bending blocks with a wall).
+    pub rest: Option<&'a BlockRest<'a>>,
+}
+
 /// The candidates of one block: its kept normal modes and (when asked) the static corrections of
-/// unit loads on `loads` (free-DOF indices of the bit's u and θx).
+/// unit loads on the bit's DOFs and the block's resting shape.
 pub(super) fn solve_block(
     pencil: &Pencil<'_>,
     block: &[usize],
     family: Option<Family>,
     size: FamilySize,
-    loads: Option<[usize; 2]>,
+    ritz: RitzLoads<'_>,
     family_of: &impl Fn(usize) -> Family,
     par: Par,
 ) -> Result<Vec<Candidate>, EigenError> {
+    let RitzLoads { bit: loads, rest } = ritz;
     let all = block.len();
     let take = match size {
         FamilySize::Count(c) => c.min(all),
@@ -234,6 +245,25 @@ pub(super) fn solve_block(
             });
         }
     }
+    if let (Some(rest), Some(family)) = (rest, family) {
+        let shape = match &matrices {
+            Block::Dense(kb, mb) => rest
+                .shape(&SymmetricSparse::from_dense(kb.as_ref()))
+                .and_then(|x| dense_ritz(kb.as_ref(), mb.as_ref(), &vectors, keep, x)),
+            Block::Sparse(kb, mb) => rest
+                .shape(kb)
+                .and_then(|x| sparse_ritz(kb, mb, &vectors, keep, x)),
+        };
+        if let Some((lambda, psi)) = shape {
+            kept.push(Candidate {
+                lambda,
+                family,
+                kind: ModeKind::RestingShape,
+                entries: entries_of(&|i| psi[i]),
+                block: 0,
+            });
+        }
+    }
     Ok(kept)
 }
 
@@ -285,6 +315,19 @@ fn static_correction(
     e[(r, 0)] = 1.0;
     let psi = llt.solve(e.as_ref());
     let psi: Vec<f64> = (0..n).map(|i| psi[(i, 0)]).collect();
+    dense_ritz(k, m, modes, keep, psi)
+}
+
+/// A vector ψ of a dense block as a Ritz vector: [`orthogonalise`]d against the first `keep`
+/// modes, with its Rayleigh quotient.
+fn dense_ritz(
+    k: MatRef<'_, f64>,
+    m: MatRef<'_, f64>,
+    modes: &Mat<f64>,
+    keep: usize,
+    psi: Vec<f64>,
+) -> Option<(f64, Vec<f64>)> {
+    let n = k.nrows();
     orthogonalise(
         psi,
         |x| {
@@ -309,6 +352,17 @@ fn sparse_static_correction(
     r: usize,
 ) -> Option<(f64, Vec<f64>)> {
     let psi = sparse_unit_response(k, r)?;
+    sparse_ritz(k, m, modes, keep, psi)
+}
+
+/// [`dense_ritz`] on sparse block matrices.
+fn sparse_ritz(
+    k: &SymmetricSparse,
+    m: &SymmetricSparse,
+    modes: &Mat<f64>,
+    keep: usize,
+    psi: Vec<f64>,
+) -> Option<(f64, Vec<f64>)> {
     fn times(a: &SymmetricSparse) -> impl Fn(&[f64]) -> Vec<f64> + '_ {
         move |x: &[f64]| {
             let mut y = vec![0.0; x.len()];

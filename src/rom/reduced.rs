@@ -80,7 +80,7 @@ impl ReducedModel {
     ) -> Result<Self, BasisError> {
         let global = assemble(string, elements);
         let bc = BoundaryConditions::drillstring(elements);
-        let basis = ModalBasis::of(&global, &bc, spec, Par::Seq)?;
+        let basis = ModalBasis::of_string(&global, string, &bc, spec, Par::Seq)?;
         let phi = to_na(&basis.shapes);
         let families: Vec<_> = basis.modes.iter().map(|m| m.family).collect();
         let omega2 =

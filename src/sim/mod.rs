@@ -31,4 +31,6 @@ pub use series::{CHANNELS, Channel, Frame, Row, Sink, TimeSeries, at};
 /// 4: stress envelope and its metrics (max_von_mises_pa, …); the simulated motion is unchanged.
 /// 5: fatigue (rainflow, Miner), buckling, critical_speed_margin and critical_speed_proximity
 /// (Campbell diagram at rest) in every record; the simulated motion is unchanged.
-pub const SIMULATOR_REVISION: u32 = 5;
+/// 6: the resting shape of each bending plane in the basis (part of the static corrections): the
+/// reduced string lies on the wall where the finite-element model does.
+pub const SIMULATOR_REVISION: u32 = 6;

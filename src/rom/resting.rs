@@ -1,0 +1,190 @@
+//! The resting shape of a bending plane: the static deflection of the string under its own
+//! weight with the wall's contact, the basis vector that lets a reduced model hold a string lying
+//! along the low side of the hole (issue 11).
+//!
+//! A horizontal string rests on the wall over most of its length and leaves it only near its
+//! supported ends. A basis of free-string modes cannot represent that shape: the seed's default
+//! basis (16 modes per plane) touches the wall at 14 of the 106 nodes at rest where the
+//! unreduced model touches at 71, and the spans between those 14 supports are free to vibrate:
+//! after about 5 s of stick-slip the reduced string lifts off and bounces on the wall at ~1400
+//! impacts/s where the unreduced one lies still. The static solution is the standard remedy
+//! (Ritz vectors of the load, Wilson, Yuan & Dickens 1982, "Dynamic analysis by direct
+//! superposition of Ritz vectors", Earthq. Eng. Struct. Dyn. 10:813–821): with the resting
+//! shape in the span of the basis, the reduced static equilibrium is the finite-element one up to
+//! the coupling of the planes with the other families.
+//!
+//! Per bending block, x solves the plane's static problem
+//!   K x − b − Σᵢ F(|xᵢ| − gap) sign(xᵢ) eᵢ = 0,
+//! K the block's linear stiffness, b the weight load along −y or −z ([`crate::fem::weight_load`];
+//! along −y it is the twin of the real one, so both planes keep twin bases), F ≤ 0 the wall law's
+//! elastic normal force at each node's lateral translation xᵢ (the radius when the other plane
+//! is at rest). It is the minimum of the convex energy ½xᵀKx − bᵀx + Σᵢ φ(|xᵢ| − gap), found
+//! by Newton's method with a backtracking (Armijo) line search on that energy.
+
+use super::lanczos::SparseCholesky;
+use crate::fem::SymmetricSparse;
+use crate::model::WallContactLaw;
+use faer::Mat;
+
+/// The static problem of one bending block.
+pub(super) struct BlockRest<'a> {
+    /// Weight load on the block's DOFs, N and N·m.
+    pub load: Vec<f64>,
+    /// Block-local indices of the lateral translations (v or w) of the nodes.
+    pub contact: Vec<usize>,
+    pub law: &'a dyn WallContactLaw,
+    /// Radial gap, m.
+    pub gap: f64,
+}
+
+/// Newton iterations allowed (the seed converges in about 20).
+const ITERATIONS: usize = 200;
+
+impl BlockRest<'_> {
+    /// Energy, gradient and the contact stiffness −∂F/∂δ at each contact row, at x.
+    fn evaluate(&self, k: &SymmetricSparse, x: &[f64]) -> (f64, Vec<f64>, Vec<f64>) {
+        let mut g = vec![0.0; x.len()];
+        k.mul_vec(x, &mut g);
+        let mut energy = 0.0;
+        for (gi, (xi, bi)) in g.iter_mut().zip(x.iter().zip(&self.load)) {
+            energy += 0.5 * xi * *gi - bi * xi;
+            *gi -= bi;
+        }
+        let mut stiffness = vec![0.0; self.contact.len()];
+        for (s, &r) in stiffness.iter_mut().zip(&self.contact) {
+            let delta = x[r].abs() - self.gap;
+            if delta > 0.0 {
+                let f = self.law.normal(delta, 0.0);
+                energy += f.energy;
+                g[r] -= f.elastic * x[r].signum();
+                *s = -f.dforce_dindentation;
+            }
+        }
+        (energy, g, stiffness)
+    }
+
+    /// The resting shape on the block whose stiffness is `k`; `None` when the load is zero or
+    /// Newton does not converge (the basis then goes without it).
+    pub fn shape(&self, k: &SymmetricSparse) -> Option<Vec<f64>> {
+        let n = k.size();
+        if self.load.iter().all(|&b| b == 0.0) {
+            return None;
+        }
+        let mut x = vec![0.0; n];
+        let mut contact_of = vec![usize::MAX; n];
+        for (c, &r) in self.contact.iter().enumerate() {
+            contact_of[r] = c;
+        }
+        let mut trial = vec![0.0; n];
+        for _ in 0..ITERATIONS {
+            let (energy, g, stiffness) = self.evaluate(k, &x);
+            let h = SymmetricSparse::from_column_fn(n, |j| {
+                k.column(j)
+                    .map(|(i, v)| match contact_of[j] {
+                        c if i == j && c != usize::MAX => (i, v + stiffness[c]),
+                        _ => (i, v),
+                    })
+                    .collect()
+            });
+            let chol = SparseCholesky::new(&h).ok()?;
+            let mut d = Mat::<f64>::from_fn(n, 1, |i, _| -g[i]);
+            chol.solve(d.as_mut());
+            let d = d.col_as_slice(0);
+            let largest = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            // Converged: the Newton update is below a picometre.
+            if largest < 1e-12 {
+                return Some(x);
+            }
+            let slope: f64 = g.iter().zip(d).map(|(a, b)| a * b).sum();
+            let mut alpha = 1.0;
+            loop {
+                for ((t, xi), di) in trial.iter_mut().zip(&x).zip(d) {
+                    *t = xi + alpha * di;
+                }
+                let (e, _, _) = self.evaluate(k, &trial);
+                if e <= energy + 1e-4 * alpha * slope {
+                    break;
+                }
+                alpha *= 0.5;
+                if alpha < 1e-12 {
+                    // No decrease along a descent direction: round-off at the minimum.
+                    return (largest < 1e-9 * self.gap.max(1e-3)).then_some(x);
+                }
+            }
+            std::mem::swap(&mut x, &mut trial);
+        }
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::wall::Cubic;
+
+    fn law(stiffness: f64) -> Cubic {
+        Cubic {
+            stiffness,
+            cubic_stiffness: 0.0,
+            damping: 0.0,
+            friction: 0.0,
+            sign_smoothing: 1e-3,
+        }
+    }
+
+    /// A chain of n unit springs fixed at one end, a load b at every node: without a wall the
+    /// end moves by Σ b i = b n(n+1)/2; with a wall at `gap` every node beyond the gap rests
+    /// on a spring of stiffness k_w. Both against closed forms.
+    fn chain(n: usize) -> SymmetricSparse {
+        SymmetricSparse::from_column_fn(n, |j| {
+            let mut c = Vec::new();
+            if j > 0 {
+                c.push((j - 1, -1.0));
+            }
+            c.push((j, if j + 1 < n { 2.0 } else { 1.0 }));
+            if j + 1 < n {
+                c.push((j + 1, -1.0));
+            }
+            c
+        })
+    }
+
+    #[test]
+    fn without_contact_the_shape_is_the_linear_static_response() {
+        let n = 10;
+        let wall = law(1e6);
+        let rest = BlockRest {
+            load: vec![-1e-3; n],
+            contact: (0..n).collect(),
+            law: &wall,
+            gap: 1.0,
+        };
+        let x = rest.shape(&chain(n)).unwrap();
+        // Node i (1-based) of a fixed–free chain under uniform load b: x_i = b Σ_{j≤i} (n − j + 1).
+        for (i, xi) in x.iter().enumerate() {
+            let expected: f64 = -1e-3 * (1..=i + 1).map(|j| (n - j + 1) as f64).sum::<f64>();
+            approx::assert_relative_eq!(*xi, expected, max_relative = 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_single_node_on_a_linear_wall_rests_where_the_forces_balance() {
+        // One spring of stiffness 1 to the ground, load −2, wall at 0.5 with stiffness 100:
+        // x + 100 (|x| − 0.5) = 2 at x = −(2 + 50)/101.
+        let k = SymmetricSparse::from_column_fn(1, |_| vec![(0, 1.0)]);
+        let wall = law(100.0);
+        let rest = BlockRest {
+            load: vec![-2.0],
+            contact: vec![0],
+            law: &wall,
+            gap: 0.5,
+        };
+        let x = rest.shape(&k).unwrap();
+        approx::assert_relative_eq!(x[0], -52.0 / 101.0, max_relative = 1e-12);
+        let free = BlockRest {
+            load: vec![0.0],
+            ..rest
+        };
+        assert!(free.shape(&k).is_none(), "no load, no shape");
+    }
+}
