@@ -111,7 +111,7 @@ fn the_extended_basis_is_mass_orthonormal_and_stiffness_diagonal() {
             counts.static_corrections,
             counts.resting_shapes
         ),
-        (32, 8, 4, 2, 2)
+        (32, 8, 4, 2, 4)
     );
     // Both bending planes hold the same modes: one block of Φ serves both (one twin pair).
     assert_eq!(model.blocks.twins(), 1);

@@ -40,8 +40,8 @@ fn campbell_of_the_seed_writes_its_files() {
     let modes = c["modes"].as_array().unwrap();
     assert_eq!(
         modes.len(),
-        48,
-        "the default basis: 32 + 8 + 4 modes, 2 + 2 Ritz vectors"
+        50,
+        "the default basis: 32 + 8 + 4 modes, 2 + 4 Ritz vectors"
     );
     assert_eq!(modes[0]["freq_hz"].as_array().unwrap().len(), 19);
     assert_eq!(c["linearisation"]["contact"], true);

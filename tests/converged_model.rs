@@ -41,7 +41,7 @@ fn a_two_second_seed_window_drills_at_v0_from_the_preloaded_start() {
     assert!(ok, "{stderr}");
     assert!(
         stdout.contains(
-            "basis: 32 bending (both planes), 8 torsional, 4 axial, 2 static corrections, 2 resting shapes"
+            "basis: 32 bending (both planes), 8 torsional, 4 axial, 2 static corrections, 4 resting shapes"
         )
     );
     let s = summary(dir.path());
@@ -84,7 +84,7 @@ fn the_long_collar_string_keeps_every_family_and_sticks_and_slips() {
     assert_eq!(modes["basis"]["torsional"], 8);
     assert_eq!(modes["basis"]["axial"], 4);
     assert_eq!(modes["basis"]["static_corrections"], 2);
-    assert_eq!(modes["basis"]["resting_shapes"], 2);
+    assert_eq!(modes["basis"]["resting_shapes"], 4);
     let dir = tempfile::tempdir().unwrap();
     let (ok, _, stderr) = drillopt(&[
         "simulate",

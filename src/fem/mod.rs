@@ -27,6 +27,6 @@ pub use dof::{DOF_PER_NODE, Dof};
 pub use element::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector, Lateral};
 pub use inertia::ElementInertia;
 pub use shape::{Interpolation, gauss_legendre_4};
-pub use sparse::{SparseGlobal, SymmetricSparse, assemble_sparse};
+pub use sparse::{SparseGlobal, SymmetricSparse, assemble_sparse, geometric_stiffness};
 pub use strain_energy::{ElementStrains, STRAIN_VARS, StrainEnergy, Strains};
 pub use stress::{AxialStressField, SectionLoads, SectionStrains, SectionStress};

@@ -6,7 +6,10 @@
 //! stored value is bitwise the dense one; exact zeros are not stored (the family blocks of the
 //! modal solve are read off the pattern).
 
-use super::{BeamElement, DOF_PER_NODE, Dof, ELEMENT_DOF};
+use super::{
+    BeamElement, DOF_PER_NODE, Dof, ELEMENT_DOF, ElementMatrix, ElementStrains, ElementVector,
+    StrainEnergy,
+};
 use crate::model::{Drillstring, Section};
 
 /// A symmetric sparse matrix in compressed-column form, both triangles stored, rows sorted in
@@ -147,43 +150,80 @@ pub struct SparseGlobal {
 pub fn assemble_sparse(string: &Drillstring, elements: usize) -> SparseGlobal {
     assert!(elements > 0, "a mesh needs at least one element");
     let element = BeamElement::new(string.length / elements as f64, Section::of(string));
+    let bit_spin = Dof::ThetaX.at(elements);
+    SparseGlobal {
+        mass: assemble_band(
+            elements,
+            &element.mass(),
+            Some((bit_spin, string.bit_inertia)),
+        ),
+        stiffness: assemble_band(elements, &element.stiffness(), None),
+        elements,
+    }
+}
+
+/// The geometric stiffness K_σ = ∂K_t/∂N of the string under a uniform axial force N (tension
+/// positive), on all 6(N+1) DOFs, 1/m (N/m per N of axial force): the tangent stiffness of the
+/// string in uniform tension or compression N is K + N K_σ to first order. On the bending DOFs it
+/// is the classical beam-column matrix (∫ N v′ δv′ dx of the Green–Lagrange axial strain;
+/// Przemieniecki, *Theory of Matrix Structural Analysis*, 1968, §15.3), which the strain energy of
+/// [`StrainEnergy`] holds; it is read off that energy's exact (automatic-differentiation) tangent
+/// by a central difference in a uniform axial strain of ±1e-6, which is exact for the quadratic
+/// dependence of the tangent on the axial strain up to round-off.
+pub fn geometric_stiffness(string: &Drillstring, elements: usize) -> SymmetricSparse {
+    assert!(elements > 0, "a mesh needs at least one element");
+    let h = string.length / elements as f64;
+    let element = BeamElement::new(h, Section::of(string));
+    let strains = ElementStrains::new(&element);
+    let law = StrainEnergy::of(string);
+    const STRAIN: f64 = 1e-6;
+    // Node 2's axial DOF (u2) carries the element's axial force N.
+    let stretched = |sign: f64| {
+        let mut d = ElementVector::zeros();
+        d[DOF_PER_NODE + Dof::U as usize] = sign * STRAIN * h;
+        let (f, k) = strains.internal_force_and_tangent(&law, &d);
+        (f[DOF_PER_NODE + Dof::U as usize], k)
+    };
+    let ((tension, k_plus), (compression, k_minus)) = (stretched(1.0), stretched(-1.0));
+    let k_sigma: ElementMatrix = (k_plus - k_minus) / (tension - compression);
+    assemble_band(elements, &k_sigma, None)
+}
+
+/// Sum one element matrix over `elements` equal elements into a banded symmetric matrix (a node
+/// couples with its neighbours only), plus an optional value on one diagonal entry.
+fn assemble_band(
+    elements: usize,
+    element_matrix: &ElementMatrix,
+    diagonal: Option<(usize, f64)>,
+) -> SymmetricSparse {
     let n = DOF_PER_NODE * (elements + 1);
-    let (me, ke) = (element.mass(), element.stiffness());
     // Column j may be non-zero on the DOFs of nodes node(j) − 1 ..= node(j) + 1: a band of
     // 3 × 6 rows starting at `first(j)`.
     const BAND: usize = 3 * DOF_PER_NODE;
     let first = |j: usize| DOF_PER_NODE * (j / DOF_PER_NODE).saturating_sub(1);
-    let mut mass = vec![[0.0; BAND]; n];
-    let mut stiffness = vec![[0.0; BAND]; n];
+    let mut band = vec![[0.0; BAND]; n];
     for e in 0..elements {
         let base = DOF_PER_NODE * e;
         for i in 0..ELEMENT_DOF {
             for j in 0..ELEMENT_DOF {
                 let (r, c) = (base + i, base + j);
-                mass[c][r - first(c)] += me[(i, j)];
-                stiffness[c][r - first(c)] += ke[(i, j)];
+                band[c][r - first(c)] += element_matrix[(i, j)];
             }
         }
     }
-    let bit_spin = Dof::ThetaX.at(elements);
-    mass[bit_spin][bit_spin - first(bit_spin)] += string.bit_inertia;
-    let compress = |band: Vec<[f64; BAND]>| {
-        SymmetricSparse::from_columns(
-            n,
-            band.into_iter().enumerate().map(|(c, col)| {
-                col.iter()
-                    .enumerate()
-                    .map(|(k, &v)| (first(c) + k, v))
-                    .filter(|&(r, v)| r < n && v != 0.0)
-                    .collect()
-            }),
-        )
-    };
-    SparseGlobal {
-        mass: compress(mass),
-        stiffness: compress(stiffness),
-        elements,
+    if let Some((d, value)) = diagonal {
+        band[d][d - first(d)] += value;
     }
+    SymmetricSparse::from_columns(
+        n,
+        band.into_iter().enumerate().map(|(c, col)| {
+            col.iter()
+                .enumerate()
+                .map(|(k, &v)| (first(c) + k, v))
+                .filter(|&(r, v)| r < n && v != 0.0)
+                .collect()
+        }),
+    )
 }
 
 #[cfg(test)]
@@ -222,5 +262,46 @@ mod tests {
                 assert_eq!(sub.get(a, b), dense.stiffness[(i, j)]);
             }
         }
+    }
+
+    /// Euler's buckling load of a pinned–pinned column, π²EI/L² (with Engesser's shear
+    /// correction 1/(1 + P_E/(κGA)), negligible here), from K x = P K_σ x in one bending plane.
+    #[test]
+    fn the_geometric_stiffness_buckles_a_pinned_column_at_the_euler_load() {
+        let p = crate::problem::Problem::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/seed_mc2014.toml"
+        ))
+        .unwrap();
+        let elements = 24;
+        let k = assemble_sparse(&p.model, elements).stiffness.to_dense();
+        let g = geometric_stiffness(&p.model, elements).to_dense();
+        // The x–y plane: v and θz of every node, v fixed at both ends.
+        let rows: Vec<usize> = (0..=elements)
+            .flat_map(|n| [Dof::V.at(n), Dof::ThetaZ.at(n)])
+            .filter(|&r| r != Dof::V.at(0) && r != Dof::V.at(elements))
+            .collect();
+        let pick = |a: &faer::Mat<f64>| {
+            faer::Mat::from_fn(rows.len(), rows.len(), |i, j| a[(rows[i], rows[j])])
+        };
+        let (k, g) = (pick(&k), pick(&g));
+        // Inverse iteration on K⁻¹ K_σ: its largest eigenvalue is 1 / P_cr.
+        use faer::linalg::solvers::Solve;
+        let llt = k.llt(faer::Side::Lower).unwrap();
+        let mut x = faer::Mat::<f64>::from_fn(rows.len(), 1, |i, _| 1.0 + (i as f64).sin() * 0.1);
+        let mut mu = 0.0;
+        for _ in 0..200 {
+            let y = llt.solve(&g * &x);
+            mu = (x.transpose() * &g * &y)[(0, 0)] / (x.transpose() * &g * &x)[(0, 0)];
+            x = &y * (1.0 / y.norm_l2());
+        }
+        let section = Section::of(&p.model);
+        let euler = std::f64::consts::PI.powi(2) * section.ei / p.model.length.powi(2);
+        let engesser = euler / (1.0 + euler / section.shear_rigidity);
+        assert!(
+            (1.0 / mu / engesser - 1.0).abs() < 1e-4,
+            "P_cr {} N, closed form {engesser} N",
+            1.0 / mu
+        );
     }
 }

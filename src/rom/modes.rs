@@ -12,8 +12,8 @@ use super::eigen::EigenError;
 use super::pencil::{Pencil, RitzLoads, bit_loads, solve_block};
 use super::resting::BlockRest;
 use crate::fem::{
-    BoundaryConditions, Dof, GlobalMatrices, Lateral, SparseGlobal, assemble, assemble_sparse,
-    weight_load,
+    BoundaryConditions, Dof, GlobalMatrices, Lateral, SparseGlobal, SymmetricSparse, assemble,
+    assemble_sparse, geometric_stiffness, weight_load,
 };
 use crate::model::{BasisSpec, Drillstring, FamilySize, WallContactLaw};
 use faer::{Mat, Par};
@@ -79,9 +79,11 @@ pub enum ModeKind {
     /// The static response to a unit bit load, M-orthogonalised against the kept normal modes
     /// (a Ritz vector: K- and M-orthogonal to them, with its Rayleigh quotient as ω²).
     StaticCorrection,
-    /// The string's resting shape in one bending plane: its static deflection under its weight
-    /// with the wall's contact ([`super::resting`]), M-orthogonalised against the plane's kept
-    /// modes. Part of the basis when the static corrections are asked for.
+    /// The string's resting shape in one bending plane, its static deflection under its weight
+    /// with the wall's contact, and that shape's derivative with respect to an axial compression
+    /// ([`super::resting`]): two Ritz vectors per plane, M-orthogonalised against the plane's kept
+    /// modes and combined by Rayleigh–Ritz. Part of the basis when the static corrections are
+    /// asked for.
     RestingShape,
 }
 
@@ -112,7 +114,8 @@ pub struct BasisCounts {
     pub axial: usize,
     /// Static responses to the unit bit force and torque.
     pub static_corrections: usize,
-    /// Resting shapes of the bending planes ([`ModeKind::RestingShape`]).
+    /// Resting shapes of the bending planes and their compression sensitivities
+    /// ([`ModeKind::RestingShape`]; two per plane).
     pub resting_shapes: usize,
 }
 
@@ -370,6 +373,8 @@ impl ModalBasis {
 /// DOF set, and the wall.
 pub(super) struct Rest<'a> {
     weight: [Vec<f64>; 2],
+    /// Geometric stiffness of a unit axial force on the full DOF set.
+    geometric: SymmetricSparse,
     law: &'a dyn WallContactLaw,
     gap: f64,
 }
@@ -378,6 +383,7 @@ impl<'a> Rest<'a> {
     fn of(string: &'a Drillstring, elements: usize) -> Self {
         Rest {
             weight: [Lateral::Y, Lateral::Z].map(|axis| weight_load(string, elements, axis)),
+            geometric: geometric_stiffness(string, elements),
             law: string.wall.law(),
             gap: string.gap(),
         }
@@ -438,6 +444,10 @@ fn build(
                 .collect(),
             law: rest.law,
             gap: rest.gap,
+            geometric: Some(
+                rest.geometric
+                    .submatrix(&block.iter().map(|&r| free[r]).collect::<Vec<_>>()),
+            ),
         })
     };
     let mut chosen: Vec<Candidate> = Vec::new();

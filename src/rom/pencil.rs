@@ -246,15 +246,28 @@ pub(super) fn solve_block(
         }
     }
     if let (Some(rest), Some(family)) = (rest, family) {
-        let shape = match &matrices {
-            Block::Dense(kb, mb) => rest
-                .shape(&SymmetricSparse::from_dense(kb.as_ref()))
-                .and_then(|x| dense_ritz(kb.as_ref(), mb.as_ref(), &vectors, keep, x)),
-            Block::Sparse(kb, mb) => rest
-                .shape(kb)
-                .and_then(|x| sparse_ritz(kb, mb, &vectors, keep, x)),
+        // The resting shape and its compression sensitivity, as Ritz vectors of the block.
+        let shapes = |k: &SymmetricSparse| -> Vec<Vec<f64>> {
+            let Some(x) = rest.shape(k) else {
+                return Vec::new();
+            };
+            let dx = rest
+                .geometric
+                .as_ref()
+                .and_then(|g| rest.compression_sensitivity(k, g, &x));
+            std::iter::once(x).chain(dx).collect()
         };
-        if let Some((lambda, psi)) = shape {
+        let vectors = match &matrices {
+            Block::Dense(kb, mb) => dense_ritz(
+                kb.as_ref(),
+                mb.as_ref(),
+                &vectors,
+                keep,
+                shapes(&SymmetricSparse::from_dense(kb.as_ref())),
+            ),
+            Block::Sparse(kb, mb) => sparse_ritz(kb, mb, &vectors, keep, shapes(kb)),
+        };
+        for (lambda, psi) in vectors {
             kept.push(Candidate {
                 lambda,
                 family,
@@ -315,20 +328,19 @@ fn static_correction(
     e[(r, 0)] = 1.0;
     let psi = llt.solve(e.as_ref());
     let psi: Vec<f64> = (0..n).map(|i| psi[(i, 0)]).collect();
-    dense_ritz(k, m, modes, keep, psi)
+    dense_ritz(k, m, modes, keep, vec![psi]).pop()
 }
 
-/// A vector ψ of a dense block as a Ritz vector: [`orthogonalise`]d against the first `keep`
-/// modes, with its Rayleigh quotient.
+/// Vectors ψ of a dense block as Ritz vectors: [`ritz_vectors`] against the first `keep` modes.
 fn dense_ritz(
     k: MatRef<'_, f64>,
     m: MatRef<'_, f64>,
     modes: &Mat<f64>,
     keep: usize,
-    psi: Vec<f64>,
-) -> Option<(f64, Vec<f64>)> {
+    psi: Vec<Vec<f64>>,
+) -> Vec<(f64, Vec<f64>)> {
     let n = k.nrows();
-    orthogonalise(
+    ritz_vectors(
         psi,
         |x| {
             let y = m * faer::ColRef::from_slice(x);
@@ -352,7 +364,7 @@ fn sparse_static_correction(
     r: usize,
 ) -> Option<(f64, Vec<f64>)> {
     let psi = sparse_unit_response(k, r)?;
-    sparse_ritz(k, m, modes, keep, psi)
+    sparse_ritz(k, m, modes, keep, vec![psi]).pop()
 }
 
 /// [`dense_ritz`] on sparse block matrices.
@@ -361,8 +373,8 @@ fn sparse_ritz(
     m: &SymmetricSparse,
     modes: &Mat<f64>,
     keep: usize,
-    psi: Vec<f64>,
-) -> Option<(f64, Vec<f64>)> {
+    psi: Vec<Vec<f64>>,
+) -> Vec<(f64, Vec<f64>)> {
     fn times(a: &SymmetricSparse) -> impl Fn(&[f64]) -> Vec<f64> + '_ {
         move |x: &[f64]| {
             let mut y = vec![0.0; x.len()];
@@ -370,40 +382,71 @@ fn sparse_ritz(
             y
         }
     }
-    orthogonalise(psi, times(m), times(k), modes, keep)
+    ritz_vectors(psi, times(m), times(k), modes, keep)
 }
 
-/// ψ M-orthogonalised against the first `keep` modes (twice), M-normalised, with ψᵀKψ.
-fn orthogonalise(
-    mut psi: Vec<f64>,
+/// The vectors ψ as Ritz vectors of the block: each M-orthogonalised (twice) against the first
+/// `keep` modes and the vectors accepted before it, M-normalised (a vector with less than 1e-8 of
+/// its M-norm left is dropped: the others already span it), then combined by a Rayleigh–Ritz
+/// step on their span (the eigenvectors of the small matrix VᵀKV, V M-orthonormal), so that the
+/// block's basis stays M-orthonormal and K-orthogonal (Φᵀ M Φ = I, Φᵀ K Φ = diag). Returns
+/// (ψᵀKψ, ψ) in ascending order of ψᵀKψ.
+fn ritz_vectors(
+    psis: Vec<Vec<f64>>,
     m: impl Fn(&[f64]) -> Vec<f64>,
     k: impl Fn(&[f64]) -> Vec<f64>,
     modes: &Mat<f64>,
     keep: usize,
-) -> Option<(f64, Vec<f64>)> {
-    let n = psi.len();
-    let m_norm = |x: &[f64]| -> f64 {
-        let mx = m(x);
-        (0..n).map(|i| x[i] * mx[i]).sum::<f64>().sqrt()
-    };
-    let initial = m_norm(&psi);
-    for _ in 0..2 {
-        let mpsi = m(&psi);
-        for c in 0..keep {
-            let dot: f64 = (0..n).map(|i| modes[(i, c)] * mpsi[i]).sum();
-            for (i, p) in psi.iter_mut().enumerate() {
-                *p -= dot * modes[(i, c)];
+) -> Vec<(f64, Vec<f64>)> {
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let mut accepted: Vec<Vec<f64>> = Vec::new();
+    for mut psi in psis {
+        let n = psi.len();
+        let initial = dot(&psi, &m(&psi)).sqrt();
+        for _ in 0..2 {
+            let mpsi = m(&psi);
+            for c in 0..keep {
+                let d: f64 = (0..n).map(|i| modes[(i, c)] * mpsi[i]).sum();
+                for (i, p) in psi.iter_mut().enumerate() {
+                    *p -= d * modes[(i, c)];
+                }
+            }
+            for a in &accepted {
+                let d = dot(a, &mpsi);
+                for (p, ai) in psi.iter_mut().zip(a) {
+                    *p -= d * ai;
+                }
             }
         }
+        let norm = dot(&psi, &m(&psi)).sqrt();
+        if norm.is_nan() || norm <= 1e-8 * initial {
+            continue;
+        }
+        psi.iter_mut().for_each(|p| *p /= norm);
+        accepted.push(psi);
     }
-    let norm = m_norm(&psi);
-    if norm.is_nan() || norm <= 1e-8 * initial {
-        return None;
+    let r = accepted.len();
+    let kv: Vec<Vec<f64>> = accepted.iter().map(|v| k(v)).collect();
+    if r == 1 {
+        let lambda = dot(&accepted[0], &kv[0]);
+        return vec![(lambda, accepted.pop().unwrap_or_default())];
     }
-    psi.iter_mut().for_each(|p| *p /= norm);
-    let kpsi = k(&psi);
-    let lambda = (0..n).map(|i| psi[i] * kpsi[i]).sum();
-    Some((lambda, psi))
+    let reduced = Mat::<f64>::from_fn(r, r, |i, j| {
+        0.5 * (dot(&accepted[i], &kv[j]) + dot(&accepted[j], &kv[i]))
+    });
+    let Ok(eigen) = reduced.self_adjoint_eigen(Side::Lower) else {
+        return Vec::new();
+    };
+    let (values, vectors) = (eigen.S().column_vector(), eigen.U());
+    (0..r)
+        .map(|c| {
+            let n = accepted[0].len();
+            let psi: Vec<f64> = (0..n)
+                .map(|i| (0..r).map(|a| accepted[a][i] * vectors[(a, c)]).sum())
+                .collect();
+            (values[c], psi)
+        })
+        .collect()
 }
 
 /// Connected components of the graph on 0..n with the given edges (union–find).
