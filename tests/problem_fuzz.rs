@@ -20,7 +20,7 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 7] = [
+const SHIPPED: [(&str, &str); 9] = [
     (
         "problems/seed_mc2014.toml",
         include_str!("../problems/seed_mc2014.toml"),
@@ -49,7 +49,44 @@ const SHIPPED: [(&str, &str); 7] = [
         "problems/regression/slim_pipe_buckling.toml",
         include_str!("../problems/regression/slim_pipe_buckling.toml"),
     ),
+    (
+        "problems/regression/slim_pipe_wide_hole.toml",
+        include_str!("../problems/regression/slim_pipe_wide_hole.toml"),
+    ),
+    (
+        "problems/bench/seed_study.toml",
+        include_str!("../problems/bench/seed_study.toml"),
+    ),
 ];
+
+/// Every `*.toml` under `problems/` (recursively, as `drillopt batch` searches), relative to the
+/// crate root.
+fn problem_files(dir: &Path, out: &mut Vec<String>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            problem_files(&path, out);
+        } else if path.extension().is_some_and(|x| x == "toml") {
+            let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+            out.push(path.strip_prefix(root).unwrap().display().to_string());
+        }
+    }
+}
+
+#[test]
+fn every_shipped_problem_is_fuzzed() {
+    let mut files = Vec::new();
+    problem_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("problems"),
+        &mut files,
+    );
+    for f in files {
+        assert!(
+            SHIPPED.iter().any(|(path, _)| *path == f),
+            "{f} is not in SHIPPED: add it, so that the loader is fuzzed on it"
+        );
+    }
+}
 
 /// One edit of a file's text; line indices and byte offsets are taken modulo the file's size.
 #[derive(Debug, Clone)]
