@@ -1049,7 +1049,7 @@ fn a_name_that_is_not_a_plain_folder_name_is_refused() {
 #[test]
 fn physical_inputs_have_admissible_ranges() {
     for (table, key, value, allowed) in [
-        ("model", "length", "\"1e308 m\"", "(0, 15000] m"),
+        ("model", "length", "\"1e308 m\"", "[1, 15000] m"),
         (
             "model.pipe",
             "density",

@@ -43,17 +43,84 @@ pub enum Command {
     Verify(verify::VerifyArgs),
 }
 
-/// A basis error as the user should read it: file, key, what went wrong.
+/// A basis error as the user should read it: file, key, what went wrong. A numerical failure of
+/// the eigen-solve comes from the physical inputs, not from the basis: it names the keys that set
+/// the matrix that failed.
 pub(crate) fn basis_error(
     path: &std::path::Path,
     problem: &crate::problem::Problem,
     e: crate::rom::BasisError,
 ) -> anyhow::Error {
-    let key = match problem.mesh.basis {
+    use crate::rom::{BasisError, EigenError};
+    let basis_key = match problem.mesh.basis {
         crate::model::BasisSpec::Lowest(_) => "mesh.reduced_modes",
         crate::model::BasisSpec::PerFamily { .. } => "mesh.basis",
     };
-    anyhow::anyhow!("{}: key `{key}`: {e}", path.display())
+    let keys = match &e {
+        BasisError::Eigen(EigenError::MassNotPositiveDefinite { .. }) => MASS_KEYS,
+        BasisError::Eigen(EigenError::StiffnessNotPositive { .. })
+        | BasisError::Eigen(EigenError::NoConvergence { .. }) => STIFFNESS_AND_MASS_KEYS,
+        BasisError::Eigen(EigenError::TooMany { .. }) | BasisError::EmptyFamily { .. } => {
+            return anyhow::anyhow!("{}: key `{basis_key}`: {e}", path.display());
+        }
+    };
+    anyhow::anyhow!(
+        "{}: {e}; it comes from the keys {} (and {basis_key}): check their values and units",
+        path.display(),
+        quoted(keys)
+    )
+}
+
+/// The keys that set the mass matrix.
+const MASS_KEYS: &[&str] = &[
+    "model.length",
+    "mesh.elements",
+    "model.pipe.density",
+    "model.pipe.outer_radius",
+    "model.pipe.inner_radius",
+    "model.fluid.density",
+];
+
+/// The keys that set the stiffness and mass matrices.
+const STIFFNESS_AND_MASS_KEYS: &[&str] = &[
+    "model.length",
+    "mesh.elements",
+    "model.pipe.density",
+    "model.pipe.youngs_modulus",
+    "model.pipe.poisson_ratio",
+    "model.pipe.outer_radius",
+    "model.pipe.inner_radius",
+    "model.fluid.density",
+];
+
+fn quoted(keys: &[&str]) -> String {
+    keys.iter()
+        .map(|k| format!("`{k}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Refuses a basis with a frequency that is not positive and finite: a 0 Hz (or NaN) mode means
+/// the eigen-solve did not resolve the inputs, and a run or a table on it would be meaningless.
+pub(crate) fn check_basis(
+    path: &std::path::Path,
+    modes: &[crate::rom::Mode],
+) -> anyhow::Result<()> {
+    match modes
+        .iter()
+        .find(|m| !(m.freq_hz > 0.0 && m.freq_hz.is_finite()))
+    {
+        None => Ok(()),
+        Some(m) => Err(anyhow::anyhow!(
+            "{}: the eigen-solve gave basis vector {} ({}) a frequency of {} Hz, which is not \
+             positive and finite; it comes from the keys {}: check their values and units",
+            path.display(),
+            m.index,
+            m.family.name(),
+            m.freq_hz,
+            quoted(STIFFNESS_AND_MASS_KEYS)
+        )),
+    }
 }
 
 /// How a command that ran to its end came out: a verdict is data, not an error (`verify` judging
@@ -79,5 +146,60 @@ pub fn run(cli: Cli) -> anyhow::Result<Outcome> {
         Command::Map(args) => done(map::run(&args)),
         Command::Batch(args) => done(batch::run(&args)),
         Command::Verify(args) => verify::run(&args),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn tiny() -> crate::problem::Problem {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/regression/tiny_string.toml"
+        );
+        crate::problem::Problem::load(Path::new(path)).unwrap()
+    }
+
+    #[test]
+    fn a_singular_mass_matrix_names_the_keys_that_set_the_mass() {
+        let e = crate::rom::BasisError::Eigen(crate::rom::EigenError::MassNotPositiveDefinite {
+            pivot: 0,
+        });
+        let text = basis_error(Path::new("p.toml"), &tiny(), e).to_string();
+        for key in [
+            "model.pipe.density",
+            "model.pipe.outer_radius",
+            "model.length",
+        ] {
+            assert!(text.contains(&format!("`{key}`")), "{text}");
+        }
+        assert!(text.starts_with("p.toml: "), "{text}");
+    }
+
+    #[test]
+    fn a_basis_with_a_zero_or_nan_frequency_is_refused() {
+        let problem = tiny();
+        let basis = crate::rom::ModalBasis::compute(
+            &problem.model,
+            problem.mesh.elements,
+            &problem.mesh.basis,
+        )
+        .unwrap();
+        assert!(check_basis(Path::new("p.toml"), &basis.modes).is_ok());
+        for bad in [0.0, f64::NAN, f64::INFINITY, -1.0] {
+            let mut modes = basis.modes.clone();
+            modes[2].freq_hz = bad;
+            let text = check_basis(Path::new("p.toml"), &modes)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                text.contains("p.toml")
+                    && text.contains("basis vector 3")
+                    && text.contains("`model.pipe.youngs_modulus`"),
+                "{text}"
+            );
+        }
     }
 }

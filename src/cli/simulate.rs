@@ -213,6 +213,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let model = kind
         .build(&problem)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
+    super::check_basis(&args.problem, &model.basis.modes)?;
     let interval = sample_interval(
         &args.sample_interval,
         problem.simulation.sample_interval,
