@@ -123,6 +123,16 @@ pub(crate) fn check_basis(
     }
 }
 
+/// A count flag (`--samples`, `--budget`, `--threads`, `--count`, `--points`): digits only.
+/// Clap's own words for `many` or `1e3` were "invalid digit found in string".
+pub(crate) fn whole_number(s: &str) -> Result<usize, String> {
+    s.trim().parse::<usize>().map_err(|_| {
+        "not a whole number; write digits only, such as 20 (no sign, decimal point, exponent \
+         or unit)"
+            .to_string()
+    })
+}
+
 /// How a command that ran to its end came out: a verdict is data, not an error (`verify` judging
 /// a model not converged printed its verdict; the process exits with status 1, without an
 /// `error:` line).
@@ -199,6 +209,17 @@ mod tests {
                     && text.contains("basis vector 3")
                     && text.contains("`model.pipe.youngs_modulus`"),
                 "{text}"
+            );
+        }
+    }
+
+    #[test]
+    fn count_flags_say_what_they_take() {
+        assert_eq!(whole_number("20"), Ok(20));
+        for bad in ["many", "1e3", "-1", "2.5", ""] {
+            assert!(
+                whole_number(bad).unwrap_err().contains("whole number"),
+                "{bad}"
             );
         }
     }

@@ -13,7 +13,7 @@ pub struct ModesArgs {
     /// Problem file (TOML).
     pub problem: PathBuf,
     /// List this many lowest modes instead of the problem's basis.
-    #[arg(long)]
+    #[arg(long, value_parser = super::whole_number)]
     pub count: Option<usize>,
     /// Print JSON {"problem", "dof", "free_dof", "basis": {"bending", "torsional", "axial",
     /// "static_corrections"}, "modes": [{"index", "freq_hz", "family", "kind"}]} instead of a
