@@ -50,7 +50,7 @@ fn main() -> ExitCode {
         Ok(drillopt::cli::Outcome::Success) => ExitCode::SUCCESS,
         Ok(drillopt::cli::Outcome::NegativeVerdict) => ExitCode::FAILURE,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", drillopt::cli::error_text(&e));
             ExitCode::FAILURE
         }
     };

@@ -62,7 +62,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         .iter()
         .map(|p| parse_point(p))
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let out = study::out_dir(&args.run.out, &problem, "compare");
+    let out = study::out_dir(&args.run.out, &problem, "compare")?;
     let clock = Instant::now();
     let cache = study::open_cache(&out, args.run.resume)?;
     let bar = study::progress_bar(

@@ -47,7 +47,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         Some(g) => parse_grid(g)?,
         None => problem.study.optimizer.grid(),
     };
-    let out = study::out_dir(&args.run.out, &problem, "map");
+    let out = study::out_dir(&args.run.out, &problem, "map")?;
     let clock = Instant::now();
     let cache = study::open_cache(&out, args.run.resume)?;
     let bar = study::progress_bar(

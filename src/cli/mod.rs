@@ -123,6 +123,23 @@ pub(crate) fn check_basis(
     }
 }
 
+/// An error and its causes on one line, `a: b: c`, without repeating a cause that a message
+/// already quotes (an error that prints its source would otherwise show it twice).
+pub fn error_text(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let cause = cause.to_string();
+        if text.contains(&cause) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&cause);
+    }
+    text
+}
+
 /// A count flag (`--samples`, `--budget`, `--threads`, `--count`, `--points`): digits only.
 /// Clap's own words for `many` or `1e3` were "invalid digit found in string".
 pub(crate) fn whole_number(s: &str) -> Result<usize, String> {
@@ -130,6 +147,23 @@ pub(crate) fn whole_number(s: &str) -> Result<usize, String> {
         "not a whole number; write digits only, such as 20 (no sign, decimal point, exponent \
          or unit)"
             .to_string()
+    })
+}
+
+/// Creates an output directory (`--out`, or the command's default), saying which and why when
+/// it cannot: a file of that name, a file on the way, no permission.
+pub(crate) fn create_out_dir(dir: &std::path::Path) -> anyhow::Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        anyhow::bail!(
+            "output directory {}: a file of that name exists; --out takes a directory (created if missing)",
+            dir.display()
+        );
+    }
+    std::fs::create_dir_all(dir).map_err(|e| {
+        anyhow::anyhow!(
+            "output directory {}: cannot be created ({e}); --out takes a directory you may write to",
+            dir.display()
+        )
     })
 }
 
@@ -214,6 +248,21 @@ mod tests {
     }
 
     #[test]
+    fn a_cause_quoted_by_its_error_is_printed_once() {
+        #[derive(Debug, thiserror::Error)]
+        #[error("evaluation cache x/cache.jsonl: {source}")]
+        struct Quoting {
+            source: std::io::Error,
+        }
+        let io = std::io::Error::from_raw_os_error(20);
+        let once = io.to_string();
+        let e = anyhow::Error::new(Quoting { source: io }).context("solve p.toml");
+        let text = error_text(&e);
+        assert_eq!(text.matches(&once).count(), 1, "{text}");
+        assert!(text.starts_with("solve p.toml: evaluation cache"), "{text}");
+    }
+
+    #[test]
     fn count_flags_say_what_they_take() {
         assert_eq!(whole_number("20"), Ok(20));
         for bad in ["many", "1e3", "-1", "2.5", ""] {
@@ -222,5 +271,23 @@ mod tests {
                 "{bad}"
             );
         }
+    }
+
+    #[test]
+    fn an_output_path_held_by_a_file_is_called_so() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("afile");
+        std::fs::write(&file, "x").unwrap();
+        let text = create_out_dir(&file).unwrap_err().to_string();
+        assert!(
+            text.contains("afile") && text.contains("a file of that name"),
+            "{text}"
+        );
+        let text = create_out_dir(&file.join("sub")).unwrap_err().to_string();
+        assert!(
+            text.contains("afile/sub") && text.contains("cannot be created"),
+            "{text}"
+        );
+        create_out_dir(&dir.path().join("new/deeper")).unwrap();
     }
 }

@@ -190,10 +190,7 @@ fn sample_interval(
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let (op, duration) = point_and_duration(&problem, &args.point)?;
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| Path::new("results").join(&problem.name).join("simulate"));
+    let out = super::study::out_dir(&args.out, &problem, "simulate")?;
 
     let bar = if args.quiet {
         ProgressBar::hidden()

@@ -159,7 +159,7 @@ pub fn run(args: &SolveArgs) -> anyhow::Result<()> {
     let mut problem = Problem::load(&args.problem)?;
     study::apply_overrides(&mut problem, &args.problem, &args.run, args.budget)?;
     study::start_threads(args.run.threads)?;
-    let out = study::out_dir(&args.run.out, &problem, "solve");
+    let out = study::out_dir(&args.run.out, &problem, "solve")?;
     let outcome = solve_and_report(
         &problem,
         &args.problem,

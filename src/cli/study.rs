@@ -14,7 +14,8 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, clap::Args)]
 pub struct RunArgs {
     /// Output directory [default: results/<problem>/<command>; for batch, <out>/<problem> per
-    /// problem]: the JSON report, plots and the evaluation cache (cache.jsonl).
+    /// problem, default results/batch/<problem>]: the JSON report, plots and the evaluation
+    /// cache (cache.jsonl).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Continue an interrupted run: reuse every finished simulation of the evaluation cache in the
@@ -87,10 +88,13 @@ pub fn start_threads(threads: Option<usize>) -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("--threads {n}: {e}"))
 }
 
-/// Where a command writes: `--out` or `results/<problem>/<command>/`.
-pub fn out_dir(out: &Option<PathBuf>, problem: &Problem, command: &str) -> PathBuf {
-    out.clone()
-        .unwrap_or_else(|| Path::new("results").join(&problem.name).join(command))
+/// Where a command writes, created: `--out` or `results/<problem>/<command>/`.
+pub fn out_dir(out: &Option<PathBuf>, problem: &Problem, command: &str) -> anyhow::Result<PathBuf> {
+    let dir = out
+        .clone()
+        .unwrap_or_else(|| Path::new("results").join(&problem.name).join(command));
+    super::create_out_dir(&dir)?;
+    Ok(dir)
 }
 
 /// Open the evaluation cache `<out>/cache.jsonl`: continued with `resume`, else started afresh
