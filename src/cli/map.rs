@@ -75,13 +75,12 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     report::write_json_atomic(&out.join("map.json"), &json)?;
     report::write_evaluations_csv(&out, &problem, &ev.samples, m.points.iter().flatten())?;
     super::study_plots::map_plots(&problem, &out, &m)?;
-    if !args.run.quiet {
-        for line in table(&m) {
-            println!("{line}");
-        }
-        study::print_best(m.best.as_ref(), "best grid point", "no feasible grid point");
-        println!("  results in {}", out.display());
+    // The result is printed even with --quiet, as solve and simulate print theirs.
+    for line in table(&m) {
+        println!("{line}");
     }
+    study::print_best(m.best.as_ref(), "best grid point", "no feasible grid point");
+    println!("  results in {}", out.display());
     Ok(())
 }
 

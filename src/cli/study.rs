@@ -22,8 +22,8 @@ pub struct RunArgs {
     /// output directory.
     #[arg(long)]
     pub resume: bool,
-    /// No progress bar or messages (solve still prints its result; map and compare print
-    /// nothing; batch prints only the pass/fail table).
+    /// No progress bar or messages; the result is still printed (solve: the table and the
+    /// optimum; map: every node and the best; compare: the table; batch: the pass/fail table).
     #[arg(long)]
     pub quiet: bool,
     /// Monte Carlo samples per point [default: the problem's uncertain.samples]; an integer in
