@@ -45,16 +45,36 @@ fn main() -> ExitCode {
         );
         return ExitCode::FAILURE;
     }
+    stdout_errors_end_the_process();
     let cli = drillopt::cli::Cli::parse();
     let status = match drillopt::cli::run(cli) {
         Ok(drillopt::cli::Outcome::Success) => ExitCode::SUCCESS,
         Ok(drillopt::cli::Outcome::NegativeVerdict) => ExitCode::FAILURE,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", drillopt::cli::error_text(&e));
             ExitCode::FAILURE
         }
     };
     #[cfg(feature = "mpi")]
     drillopt::study::mpi::stop_workers();
     status
+}
+
+/// `println!` panics when standard output cannot be written (`drillopt modes … > /dev/full`: "failed
+/// printing to stdout: No space left on device", exit status 101 with a backtrace). That is an I/O
+/// error, not a bug: said in one line, exit status 1. Other panics keep the default report.
+fn stdout_errors_end_the_process() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info.payload();
+        let message = payload
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| payload.downcast_ref::<&str>().copied());
+        if let Some(why) = message.and_then(|m| m.strip_prefix("failed printing to stdout: ")) {
+            eprintln!("error: cannot write to standard output: {why}");
+            std::process::exit(1);
+        }
+        default(info);
+    }));
 }

@@ -297,3 +297,27 @@ fn a_compare_at_the_points_a_solve_evaluated_hits_the_cache() {
         node(&compare["points"], 80.0)
     );
 }
+
+/// A malformed count (`many`, `1e3`) names the flag and says what it takes, before any work; clap's
+/// own words were "invalid digit found in string".
+#[test]
+fn a_malformed_count_flag_names_the_flag_and_what_it_takes() {
+    for (command, flag) in [
+        ("solve", "--samples"),
+        ("solve", "--budget"),
+        ("map", "--threads"),
+        ("modes", "--count"),
+        ("campbell", "--points"),
+    ] {
+        for bad in ["many", "1e3"] {
+            let out = drillopt(&[command, TINY, flag, bad]);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{command} {flag} {bad}: {err}");
+            assert!(
+                err.contains(flag) && err.contains(bad) && err.contains("not a whole number"),
+                "{command} {flag} {bad}: {err}"
+            );
+            assert!(out.stdout.is_empty(), "{command} {flag} {bad}");
+        }
+    }
+}

@@ -58,6 +58,25 @@ fn compare_calls_points_outside_the_constraints_infeasible() {
     assert_eq!(first(&rows[1]), ("200".into(), "30".into(), "false".into()));
     assert_eq!(first(&rows[3]), ("60".into(), "5".into(), "true".into()));
 
+    // Issue 13 item 3: off bottom (V0 = 0) the run does not drill: MSE +∞ gives the score −∞
+    // (not NaN), and the point is also said to be outside the V0 bounds.
+    let out = run(&["60rpm,0"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("compare.json")).unwrap())
+            .unwrap();
+    let point = &json["points"][0];
+    let why = point["failure"].as_str().unwrap();
+    assert_eq!(point["feasible"], false);
+    assert!(
+        why.contains("not finite (-inf)") && why.contains("outside the bounds"),
+        "{why}"
+    );
+
     let out = run(&["60,5"]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no unit"));

@@ -147,12 +147,12 @@ fn a_negative_value_gets_the_admissible_range_of_its_key() {
         "model.fluid.annulus_density",
         &["must be in [0, 3000] kg/m3", "got -5"],
     );
-    // A key whose range starts at 0 but must be > 0: the sign and the range, in one refusal.
+    // A key whose range starts above 0: the sign and the range, in one refusal.
     let text = base().replace("length = \"8 m\"", "length = \"-8 m\"");
     one_refusal(
         &text,
         "model.length",
-        &["must be in (0, 15000] m", "got -8"],
+        &["must be in [1, 15000] m", "got -8"],
     );
 }
 
@@ -170,4 +170,22 @@ fn a_threshold_unit_of_the_wrong_dimension_is_called_so() {
         ],
     );
     assert!(!refusals(&text)[0].contains("unknown unit"));
+}
+
+#[test]
+fn a_string_or_a_pipe_too_small_to_mesh_is_refused_under_its_key() {
+    // Issue 13 item 6: a 1e-300 m string panicked in the element shape functions; a pipe of
+    // 1e-300 m radius made the mass matrix singular, reported under `mesh.basis`.
+    let text = base()
+        .replace("length = \"8 m\"", "length = \"1e-300 m\"")
+        .replace("probes = [\"4 m\"]", "probes = []");
+    one_refusal(&text, "model.length", &["[1, 15000] m", "1e-300"]);
+    let text = base()
+        .replace("inner_radius = \"40 mm\"", "inner_radius = \"0 m\"")
+        .replace("outer_radius = \"60 mm\"", "outer_radius = \"1e-300 m\"");
+    one_refusal(
+        &text,
+        "model.pipe.outer_radius",
+        &["[0.001, 1] m", "1e-300"],
+    );
 }

@@ -941,7 +941,7 @@ fn a_non_positive_rotation_speed_is_refused() {
     refused(
         &set("operating_point", "omega", "\"-60 rpm\""),
         "operating_point.omega",
-        &["must be in [", "rad/s", "1 to 1000 rpm"],
+        &["must be in [1, 1000] rpm", "got -60 rpm"],
     );
 }
 
@@ -953,7 +953,7 @@ fn a_negative_rate_of_penetration_is_refused_and_zero_is_off_bottom() {
     refused(
         &set("operating_point", "v0", "-1e-3"),
         "operating_point.v0",
-        &["must be in [0, ", "m/s", "off-bottom"],
+        &["must be in [0, 1000] m/h", "off-bottom", "got -3.6 m/h"],
     );
 }
 
@@ -1044,12 +1044,30 @@ fn a_name_that_is_not_a_plain_folder_name_is_refused() {
     );
 }
 
+#[test]
+fn a_name_no_folder_can_have_is_refused_at_load() {
+    // Issue 13 item 8: a NUL or a 300-character name failed only when the output folder was made.
+    refused(
+        &set("", "name", "\"a\\u0000b\""),
+        "name",
+        &["control characters"],
+    );
+    let long = format!("\"{}\"", "a".repeat(300));
+    refused(
+        &set("", "name", &long),
+        "name",
+        &["at most 200 bytes", "300 bytes"],
+    );
+    let ok = "b".repeat(200);
+    assert_eq!(accepted(&set("", "name", &format!("\"{ok}\""))).name, ok);
+}
+
 /// Issue 13: every physical input has an admissible range; a typo far outside it (an exponent
 /// too many, a missing unit) is refused naming the key and the range, before anything runs.
 #[test]
 fn physical_inputs_have_admissible_ranges() {
     for (table, key, value, allowed) in [
-        ("model", "length", "\"1e308 m\"", "(0, 15000] m"),
+        ("model", "length", "\"1e308 m\"", "[1, 15000] m"),
         (
             "model.pipe",
             "density",
@@ -1065,12 +1083,18 @@ fn physical_inputs_have_admissible_ranges() {
         ("model.wall", "friction", "1e308", "[0, 2]"),
         ("model.bit", "limit_force", "\"250 GN\"", "unknown unit"),
         ("model.bit", "limit_force", "2.5e11", "[0, 5000000] N"),
-        ("operating_point", "v0", "\"1e308 m/h\"", "at most 1000 m/h"),
+        // The operating point in the driller's units, not in rad/s and m/s with 17 digits.
+        (
+            "operating_point",
+            "v0",
+            "\"1e308 m/h\"",
+            "in [0, 1000] m/h (at most 1000 m/h; 0 is off-bottom rotation), got 1e308 m/h",
+        ),
         (
             "operating_point",
             "omega",
             "\"1e-300 rpm\"",
-            "1 to 1000 rpm",
+            "in [1, 1000] rpm (1 to 1000 rpm: the stick-slip statistics are relative to Ω), got 1e-300 rpm",
         ),
         ("simulation", "duration", "\"1e9 s\"", "at most a day"),
         ("simulation", "time_step", "\"1e-300 s\"", "[0.000001, 1] s"),

@@ -29,6 +29,13 @@ fn toml_files(dir: &Path, out: &mut Vec<PathBuf>) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Where batch writes: `--out`, else `results/batch/` (ignored by git: a regression run must not
+/// overwrite the committed reports of `results/`, issue 13 item 17); one directory per problem.
+pub fn out_root(out: &Option<PathBuf>) -> PathBuf {
+    out.clone()
+        .unwrap_or_else(|| Path::new("results").join("batch"))
+}
+
 /// The verdict on one problem.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Verdict {
@@ -85,6 +92,7 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
     let mut files = Vec::new();
     toml_files(&args.dir, &mut files)?;
     super::study::start_threads(args.run.threads)?;
+    super::create_out_dir(&out_root(&args.run.out))?;
     let mut verdicts = Vec::new();
     for file in &files {
         let loaded = Problem::load(file)
@@ -110,22 +118,21 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
             }
             continue;
         };
-        let out = match &args.run.out {
-            Some(root) => root.join(&problem.name),
-            None => Path::new("results").join(&problem.name).join("batch"),
-        };
-        let verdict = match super::solve::solve_and_report(
-            &problem,
-            file,
-            &out,
-            args.run.resume,
-            args.run.quiet,
-            !args.run.quiet,
-        ) {
+        let out = out_root(&args.run.out).join(&problem.name);
+        let verdict = match super::create_out_dir(&out).and_then(|()| {
+            super::solve::solve_and_report(
+                &problem,
+                file,
+                &out,
+                args.run.resume,
+                args.run.quiet,
+                !args.run.quiet,
+            )
+        }) {
             Err(e) => Verdict {
                 problem: problem.name.clone(),
                 pass: false,
-                detail: format!("error: {e:#}"),
+                detail: format!("error: {}", super::error_text(&e)),
             },
             Ok(outcome) => match outcome.best {
                 None => Verdict {

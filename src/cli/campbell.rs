@@ -31,7 +31,7 @@ pub struct CampbellArgs {
     #[arg(long, default_value = "20rpm..200rpm", allow_hyphen_values = true)]
     pub omega_range: String,
     /// Number of evenly spaced rotation speeds, in [2, 2000].
-    #[arg(long, default_value_t = 91)]
+    #[arg(long, default_value_t = 91, value_parser = super::whole_number)]
     pub points: usize,
     /// The bit's excitation multiple K: critical speeds are sought on 1× and K× the rotation
     /// frequency, K in [1, 50] [default: campbell.excitation_multiple of the problem, else 3, a
@@ -112,7 +112,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
         args.points
     );
     let k = multiple(args, &problem)?;
-    let out = super::study::out_dir(&args.out, &problem, "campbell");
+    let out = super::study::out_dir(&args.out, &problem, "campbell")?;
     let kind = if args.unreduced {
         ModelKind::Unreduced
     } else {
@@ -134,6 +134,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
     let model = kind
         .build(&problem)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
+    super::check_basis(&args.problem, &model.basis.modes)?;
     let options = Linearisation {
         contact: !args.no_contact,
         damping: args.damping,

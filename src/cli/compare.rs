@@ -62,7 +62,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         .iter()
         .map(|p| parse_point(p))
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let out = study::out_dir(&args.run.out, &problem, "compare");
+    let out = study::out_dir(&args.run.out, &problem, "compare")?;
     let clock = Instant::now();
     let cache = study::open_cache(&out, args.run.resume)?;
     let bar = study::progress_bar(
@@ -101,10 +101,9 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     report::write_json_atomic(&out.join("compare.json"), &json)?;
     report::write_evaluations_csv(&out, &problem, &ev.samples, &points)?;
     super::study_plots::compare_plots(&out, &runs, &ops)?;
-    if !args.run.quiet {
-        study::print_table(&points);
-        println!("  results in {}", out.display());
-    }
+    // The result is printed even with --quiet, as solve and simulate print theirs.
+    study::print_table(&points);
+    println!("  results in {}", out.display());
     Ok(())
 }
 

@@ -47,7 +47,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         Some(g) => parse_grid(g)?,
         None => problem.study.optimizer.grid(),
     };
-    let out = study::out_dir(&args.run.out, &problem, "map");
+    let out = study::out_dir(&args.run.out, &problem, "map")?;
     let clock = Instant::now();
     let cache = study::open_cache(&out, args.run.resume)?;
     let bar = study::progress_bar(
@@ -75,13 +75,12 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     report::write_json_atomic(&out.join("map.json"), &json)?;
     report::write_evaluations_csv(&out, &problem, &ev.samples, m.points.iter().flatten())?;
     super::study_plots::map_plots(&problem, &out, &m)?;
-    if !args.run.quiet {
-        for line in table(&m) {
-            println!("{line}");
-        }
-        study::print_best(m.best.as_ref(), "best grid point", "no feasible grid point");
-        println!("  results in {}", out.display());
+    // The result is printed even with --quiet, as solve and simulate print theirs.
+    for line in table(&m) {
+        println!("{line}");
     }
+    study::print_best(m.best.as_ref(), "best grid point", "no feasible grid point");
+    println!("  results in {}", out.display());
     Ok(())
 }
 

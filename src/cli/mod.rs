@@ -43,17 +43,128 @@ pub enum Command {
     Verify(verify::VerifyArgs),
 }
 
-/// A basis error as the user should read it: file, key, what went wrong.
+/// A basis error as the user should read it: file, key, what went wrong. A numerical failure of
+/// the eigen-solve comes from the physical inputs, not from the basis: it names the keys that set
+/// the matrix that failed.
 pub(crate) fn basis_error(
     path: &std::path::Path,
     problem: &crate::problem::Problem,
     e: crate::rom::BasisError,
 ) -> anyhow::Error {
-    let key = match problem.mesh.basis {
+    use crate::rom::{BasisError, EigenError};
+    let basis_key = match problem.mesh.basis {
         crate::model::BasisSpec::Lowest(_) => "mesh.reduced_modes",
         crate::model::BasisSpec::PerFamily { .. } => "mesh.basis",
     };
-    anyhow::anyhow!("{}: key `{key}`: {e}", path.display())
+    let keys = match &e {
+        BasisError::Eigen(EigenError::MassNotPositiveDefinite { .. }) => MASS_KEYS,
+        BasisError::Eigen(EigenError::StiffnessNotPositive { .. })
+        | BasisError::Eigen(EigenError::NoConvergence { .. }) => STIFFNESS_AND_MASS_KEYS,
+        BasisError::Eigen(EigenError::TooMany { .. }) | BasisError::EmptyFamily { .. } => {
+            return anyhow::anyhow!("{}: key `{basis_key}`: {e}", path.display());
+        }
+    };
+    anyhow::anyhow!(
+        "{}: {e}; it comes from the keys {} (and {basis_key}): check their values and units",
+        path.display(),
+        quoted(keys)
+    )
+}
+
+/// The keys that set the mass matrix.
+const MASS_KEYS: &[&str] = &[
+    "model.length",
+    "mesh.elements",
+    "model.pipe.density",
+    "model.pipe.outer_radius",
+    "model.pipe.inner_radius",
+    "model.fluid.density",
+];
+
+/// The keys that set the stiffness and mass matrices.
+const STIFFNESS_AND_MASS_KEYS: &[&str] = &[
+    "model.length",
+    "mesh.elements",
+    "model.pipe.density",
+    "model.pipe.youngs_modulus",
+    "model.pipe.poisson_ratio",
+    "model.pipe.outer_radius",
+    "model.pipe.inner_radius",
+    "model.fluid.density",
+];
+
+fn quoted(keys: &[&str]) -> String {
+    keys.iter()
+        .map(|k| format!("`{k}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Refuses a basis with a frequency that is not positive and finite: a 0 Hz (or NaN) mode means
+/// the eigen-solve did not resolve the inputs, and a run or a table on it would be meaningless.
+pub(crate) fn check_basis(
+    path: &std::path::Path,
+    modes: &[crate::rom::Mode],
+) -> anyhow::Result<()> {
+    match modes
+        .iter()
+        .find(|m| !(m.freq_hz > 0.0 && m.freq_hz.is_finite()))
+    {
+        None => Ok(()),
+        Some(m) => Err(anyhow::anyhow!(
+            "{}: the eigen-solve gave basis vector {} ({}) a frequency of {} Hz, which is not \
+             positive and finite; it comes from the keys {}: check their values and units",
+            path.display(),
+            m.index,
+            m.family.name(),
+            m.freq_hz,
+            quoted(STIFFNESS_AND_MASS_KEYS)
+        )),
+    }
+}
+
+/// An error and its causes on one line, `a: b: c`, without repeating a cause that a message
+/// already quotes (an error that prints its source would otherwise show it twice).
+pub fn error_text(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let cause = cause.to_string();
+        if text.contains(&cause) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&cause);
+    }
+    text
+}
+
+/// A count flag (`--samples`, `--budget`, `--threads`, `--count`, `--points`): digits only.
+/// Clap's own words for `many` or `1e3` were "invalid digit found in string".
+pub(crate) fn whole_number(s: &str) -> Result<usize, String> {
+    s.trim().parse::<usize>().map_err(|_| {
+        "not a whole number; write digits only, such as 20 (no sign, decimal point, exponent \
+         or unit)"
+            .to_string()
+    })
+}
+
+/// Creates an output directory (`--out`, or the command's default), saying which and why when
+/// it cannot: a file of that name, a file on the way, no permission.
+pub(crate) fn create_out_dir(dir: &std::path::Path) -> anyhow::Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        anyhow::bail!(
+            "output directory {}: a file of that name exists; --out takes a directory (created if missing)",
+            dir.display()
+        );
+    }
+    std::fs::create_dir_all(dir).map_err(|e| {
+        anyhow::anyhow!(
+            "output directory {}: cannot be created ({e}); --out takes a directory you may write to",
+            dir.display()
+        )
+    })
 }
 
 /// How a command that ran to its end came out: a verdict is data, not an error (`verify` judging
@@ -79,5 +190,104 @@ pub fn run(cli: Cli) -> anyhow::Result<Outcome> {
         Command::Map(args) => done(map::run(&args)),
         Command::Batch(args) => done(batch::run(&args)),
         Command::Verify(args) => verify::run(&args),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn tiny() -> crate::problem::Problem {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/regression/tiny_string.toml"
+        );
+        crate::problem::Problem::load(Path::new(path)).unwrap()
+    }
+
+    #[test]
+    fn a_singular_mass_matrix_names_the_keys_that_set_the_mass() {
+        let e = crate::rom::BasisError::Eigen(crate::rom::EigenError::MassNotPositiveDefinite {
+            pivot: 0,
+        });
+        let text = basis_error(Path::new("p.toml"), &tiny(), e).to_string();
+        for key in [
+            "model.pipe.density",
+            "model.pipe.outer_radius",
+            "model.length",
+        ] {
+            assert!(text.contains(&format!("`{key}`")), "{text}");
+        }
+        assert!(text.starts_with("p.toml: "), "{text}");
+    }
+
+    #[test]
+    fn a_basis_with_a_zero_or_nan_frequency_is_refused() {
+        let problem = tiny();
+        let basis = crate::rom::ModalBasis::compute(
+            &problem.model,
+            problem.mesh.elements,
+            &problem.mesh.basis,
+        )
+        .unwrap();
+        assert!(check_basis(Path::new("p.toml"), &basis.modes).is_ok());
+        for bad in [0.0, f64::NAN, f64::INFINITY, -1.0] {
+            let mut modes = basis.modes.clone();
+            modes[2].freq_hz = bad;
+            let text = check_basis(Path::new("p.toml"), &modes)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                text.contains("p.toml")
+                    && text.contains("basis vector 3")
+                    && text.contains("`model.pipe.youngs_modulus`"),
+                "{text}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_cause_quoted_by_its_error_is_printed_once() {
+        #[derive(Debug, thiserror::Error)]
+        #[error("evaluation cache x/cache.jsonl: {source}")]
+        struct Quoting {
+            source: std::io::Error,
+        }
+        let io = std::io::Error::from_raw_os_error(20);
+        let once = io.to_string();
+        let e = anyhow::Error::new(Quoting { source: io }).context("solve p.toml");
+        let text = error_text(&e);
+        assert_eq!(text.matches(&once).count(), 1, "{text}");
+        assert!(text.starts_with("solve p.toml: evaluation cache"), "{text}");
+    }
+
+    #[test]
+    fn count_flags_say_what_they_take() {
+        assert_eq!(whole_number("20"), Ok(20));
+        for bad in ["many", "1e3", "-1", "2.5", ""] {
+            assert!(
+                whole_number(bad).unwrap_err().contains("whole number"),
+                "{bad}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_output_path_held_by_a_file_is_called_so() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("afile");
+        std::fs::write(&file, "x").unwrap();
+        let text = create_out_dir(&file).unwrap_err().to_string();
+        assert!(
+            text.contains("afile") && text.contains("a file of that name"),
+            "{text}"
+        );
+        let text = create_out_dir(&file.join("sub")).unwrap_err().to_string();
+        assert!(
+            text.contains("afile/sub") && text.contains("cannot be created"),
+            "{text}"
+        );
+        create_out_dir(&dir.path().join("new/deeper")).unwrap();
     }
 }

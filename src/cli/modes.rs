@@ -13,7 +13,7 @@ pub struct ModesArgs {
     /// Problem file (TOML).
     pub problem: PathBuf,
     /// List this many lowest modes instead of the problem's basis.
-    #[arg(long)]
+    #[arg(long, value_parser = super::whole_number)]
     pub count: Option<usize>,
     /// Print JSON {"problem", "dof", "free_dof", "basis": {"bending", "torsional", "axial",
     /// "static_corrections", "resting_shapes"}, "modes": [{"index", "freq_hz", "family", "kind"}]}
@@ -49,6 +49,7 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
         None => ModalBasis::compute(&problem.model, elements, &problem.mesh.basis)
             .map_err(|e| super::basis_error(&args.problem, &problem, e))?,
     };
+    super::check_basis(&args.problem, &basis.modes)?;
     let report = ModesReport {
         problem: &problem.name,
         dof: bc.dof(),

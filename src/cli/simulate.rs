@@ -190,10 +190,7 @@ fn sample_interval(
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let (op, duration) = point_and_duration(&problem, &args.point)?;
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| Path::new("results").join(&problem.name).join("simulate"));
+    let out = super::study::out_dir(&args.out, &problem, "simulate")?;
 
     let bar = if args.quiet {
         ProgressBar::hidden()
@@ -213,6 +210,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let model = kind
         .build(&problem)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
+    super::check_basis(&args.problem, &model.basis.modes)?;
     let interval = sample_interval(
         &args.sample_interval,
         problem.simulation.sample_interval,

@@ -15,7 +15,7 @@ pub struct SolveArgs {
     /// Most design points the optimizer evaluates [default: optimizer.max_evaluations]; an
     /// integer in [3, 100000] (EGO: above optimizer.initial_design; not for method = "grid").
     /// Recorded in solution.json (`overrides`).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = super::whole_number)]
     pub budget: Option<usize>,
     #[command(flatten)]
     pub run: super::study::RunArgs,
@@ -159,7 +159,7 @@ pub fn run(args: &SolveArgs) -> anyhow::Result<()> {
     let mut problem = Problem::load(&args.problem)?;
     study::apply_overrides(&mut problem, &args.problem, &args.run, args.budget)?;
     study::start_threads(args.run.threads)?;
-    let out = study::out_dir(&args.run.out, &problem, "solve");
+    let out = study::out_dir(&args.run.out, &problem, "solve")?;
     let outcome = solve_and_report(
         &problem,
         &args.problem,

@@ -14,26 +14,27 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, clap::Args)]
 pub struct RunArgs {
     /// Output directory [default: results/<problem>/<command>; for batch, <out>/<problem> per
-    /// problem]: the JSON report, plots and the evaluation cache (cache.jsonl).
+    /// problem, default results/batch/<problem>]: the JSON report, plots and the evaluation
+    /// cache (cache.jsonl).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Continue an interrupted run: reuse every finished simulation of the evaluation cache in the
     /// output directory.
     #[arg(long)]
     pub resume: bool,
-    /// No progress bar or messages (solve still prints its result; map and compare print
-    /// nothing; batch prints only the pass/fail table).
+    /// No progress bar or messages; the result is still printed (solve: the table and the
+    /// optimum; map: every node and the best; compare: the table; batch: the pass/fail table).
     #[arg(long)]
     pub quiet: bool,
     /// Monte Carlo samples per point [default: the problem's uncertain.samples]; an integer in
     /// [1, 10000], more than 1 only with [[uncertain.parameter]]. Recorded in the report's
     /// header (`samples`, `overrides`).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = super::whole_number)]
     pub samples: Option<usize>,
     /// Threads that run the simulations [default: every core, or RAYON_NUM_THREADS]; an integer
     /// in [1, 1024]. Results do not depend on it; recorded in the report (`overrides`,
     /// `work.executor`).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = super::whole_number)]
     pub threads: Option<usize>,
 }
 
@@ -87,10 +88,13 @@ pub fn start_threads(threads: Option<usize>) -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("--threads {n}: {e}"))
 }
 
-/// Where a command writes: `--out` or `results/<problem>/<command>/`.
-pub fn out_dir(out: &Option<PathBuf>, problem: &Problem, command: &str) -> PathBuf {
-    out.clone()
-        .unwrap_or_else(|| Path::new("results").join(&problem.name).join(command))
+/// Where a command writes, created: `--out` or `results/<problem>/<command>/`.
+pub fn out_dir(out: &Option<PathBuf>, problem: &Problem, command: &str) -> anyhow::Result<PathBuf> {
+    let dir = out
+        .clone()
+        .unwrap_or_else(|| Path::new("results").join(&problem.name).join(command));
+    super::create_out_dir(&dir)?;
+    Ok(dir)
 }
 
 /// Open the evaluation cache `<out>/cache.jsonl`: continued with `resume`, else started afresh

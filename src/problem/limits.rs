@@ -21,10 +21,18 @@ pub fn range_of(key: &str) -> Option<Range> {
         return Some(row.spec.range);
     }
     Some(match key {
-        "model.length" => open(0.0, 15e3, "the longest wells are about 15 km"),
+        // Lower ends: a string of a few nanometres (or a pipe 2 nm across) is a typo, and the
+        // element shape functions and the mass matrix lose their meaning long before 0 (a
+        // 1e-300 m string panicked in the shape functions; a 1e-300 m radius made the mass
+        // matrix singular, reported under `mesh.basis`).
+        "model.length" => closed(
+            1.0,
+            15e3,
+            "from a 1 m laboratory string to the longest wells, about 15 km",
+        ),
         "model.gravity" => closed(0.0, 30.0, "0 to a few g"),
         "model.pipe.inner_radius" => closed(0.0, 1.0, "a pipe bore of at most 2 m"),
-        "model.pipe.outer_radius" => open(0.0, 1.0, "a pipe of at most 2 m across"),
+        "model.pipe.outer_radius" => closed(1e-3, 1.0, "a pipe 2 mm to 2 m across"),
         "model.pipe.yield_strength" => open(0.0, 3e9, "at most the strongest steels, 3 GPa"),
         "model.bit.inertia" => closed(
             0.0,
@@ -78,6 +86,12 @@ mod tests {
             assert!(!r.contains(f64::INFINITY) && !r.contains(f64::NAN));
         }
         assert!(!range_of("model.length").unwrap().contains(0.0));
+        assert!(!range_of("model.length").unwrap().contains(1e-300));
+        assert!(
+            !range_of("model.pipe.outer_radius")
+                .unwrap()
+                .contains(1e-300)
+        );
         // Off-bottom rotation (issue 13 item 13); a negative feed is refused.
         assert!(range_of("operating_point.v0").unwrap().contains(0.0));
         assert!(!range_of("operating_point.v0").unwrap().contains(-1e-9));

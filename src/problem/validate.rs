@@ -313,15 +313,17 @@ impl<'a> Checker<'a> {
     /// `v` if it lies in the admissible range of `key` (if the key has one).
     fn admissible(&self, key: &str, v: f64, dim: Dimension) -> f64 {
         match super::limits::range_of(key) {
-            Some(r) if !v.is_nan() && !r.contains(v) => self.record(
-                key,
-                format!(
-                    "must be {}, got {} {}",
-                    r.describe(dim),
-                    show(v),
-                    dim.si_unit()
-                ),
-            ),
+            Some(r) if !v.is_nan() && !r.contains(v) => {
+                let (unit, factor) = shown_in(key, dim);
+                self.record(
+                    key,
+                    format!(
+                        "must be {}, got {} {unit}",
+                        r.describe_in(unit, factor),
+                        show(in_unit(v, factor))
+                    ),
+                )
+            }
             _ => v,
         }
     }
@@ -373,14 +375,19 @@ impl<'a> Checker<'a> {
         if v.is_nan() || sign_ok {
             return self.admissible(key, v, dim);
         }
-        let unit = dim.si_unit();
+        let (unit, factor) = shown_in(key, dim);
         let allowed = match super::limits::range_of(key) {
             // The range excludes what the sign does: it says it all.
-            Some(r) if r.lo > 0.0 || (r.lo == 0.0 && (r.open_below || !strict)) => r.describe(dim),
-            Some(r) => format!("{sign} and {}", r.describe(dim)),
+            Some(r) if r.lo > 0.0 || (r.lo == 0.0 && (r.open_below || !strict)) => {
+                r.describe_in(unit, factor)
+            }
+            Some(r) => format!("{sign} and {}", r.describe_in(unit, factor)),
             None => sign.to_string(),
         };
-        self.record(key, format!("must be {allowed}, got {} {unit}", show(v)))
+        self.record(
+            key,
+            format!("must be {allowed}, got {} {unit}", show(in_unit(v, factor))),
+        )
     }
 
     /// Whether a refusal was recorded for `prefix` or a key below it (`uncertain` covers
@@ -394,6 +401,30 @@ impl<'a> Checker<'a> {
         })
     }
 }
+
+/// The unit a refusal of `key` is said in, and its size in SI: the operating point in the
+/// driller's rpm and m/h (`omega = "1e-300 rpm"` was refused as "must be in
+/// [0.10471975511965977, 104.71975511965977] rad/s … got 1.0471975511965978e-301 rad/s"), every
+/// other key in SI.
+fn shown_in(key: &str, dim: Dimension) -> (&'static str, f64) {
+    match key {
+        "operating_point.omega" => ("rpm", crate::units::from_rpm(1.0)),
+        "operating_point.v0" => ("m/h", crate::units::from_m_per_h(1.0)),
+        _ => (dim.si_unit(), 1.0),
+    }
+}
+
+/// `v` (SI) in a unit of size `factor`, to 10 significant digits: −1e-3 m/s is −3.6 m/h, not
+/// −3.5999999999999996.
+fn in_unit(v: f64, factor: f64) -> f64 {
+    if factor == 1.0 || !v.is_finite() {
+        return v;
+    }
+    format!("{:.9e}", v / factor).parse().unwrap_or(v / factor)
+}
+
+/// The longest problem name, in bytes: a folder name of the usual filesystems.
+const MAX_NAME_BYTES: usize = 200;
 
 /// Check every section of `raw`, recording every refusal (see [`Checker`]); `shape` holds the
 /// refusals of the parse.
@@ -412,12 +443,27 @@ pub(super) fn problem(
         .as_ref()
         .and_then(|m| c.section(super::validate_study::study(&c, &raw, m)));
     let campbell = c.section(campbell(&c, raw.campbell.as_ref()));
+    // The name is a folder of results/: what a filesystem takes as one folder name (at most 255
+    // bytes on the usual ones; a NUL or a 300-character name failed only when the output was made).
     let name = match raw.name {
-        Some(n) if n.trim().is_empty() || n.contains(['/', '\\']) || n == "." || n == ".." => {
+        Some(n)
+            if n.trim().is_empty()
+                || n.contains(['/', '\\'])
+                || n.chars().any(char::is_control)
+                || n.len() > MAX_NAME_BYTES
+                || n == "."
+                || n == ".." =>
+        {
+            let got = if n.len() > MAX_NAME_BYTES {
+                format!("a name of {} bytes", n.len())
+            } else {
+                format!("{n:?}")
+            };
             c.record(
                 "name",
                 format!(
-                    "must be a non-empty name without path separators, not `.` or `..`, got {n:?}"
+                    "must be a non-empty name without path separators or control characters, at \
+                     most {MAX_NAME_BYTES} bytes, not `.` or `..` (it names the results folder), got {got}"
                 ),
             );
             n

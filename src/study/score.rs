@@ -235,7 +235,10 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
         reasons.extend(violated);
     }
     if !score.is_finite() {
-        eval.failure = Some(format!("the score is not finite ({score})"));
+        // A score of −∞ (a run that did not drill: ROP 0, MSE +∞) is no reason to hide why the
+        // point is infeasible too (off bottom, V0 = 0, is below every v0 bound).
+        reasons.insert(0, format!("the score is not finite ({score})"));
+        eval.failure = Some(reasons.join("; "));
         eval.samples = samples;
         return eval;
     }
