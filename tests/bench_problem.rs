@@ -28,7 +28,7 @@ fn the_benchmark_is_the_seed_string_with_the_issue_s_study() {
     assert_eq!(p.simulation.time_step, seed.simulation.time_step);
     assert_eq!(p.simulation.start, seed.simulation.start);
     assert_eq!(p.simulation.duration, 10.0);
-    assert_eq!(p.simulation.settling_time, 2.0);
+    assert_eq!(p.simulation.settling_time, seed.simulation.settling_time);
 
     // Γ_BR, α_BR, μ_BR and μ_FS: gamma laws with cov 0.1 at the seed's values.
     let s = &p.study;

@@ -21,7 +21,7 @@ fn problem(dir: &Path, name: &str, replace: &[(&str, &str)], extra: &str) -> Str
     let mut text: String = std::fs::read_to_string(TINY)
         .unwrap()
         .lines()
-        .filter(|l| !l.trim_start().starts_with("active"))
+        .filter(|l| !l.trim_start().starts_with("active") && !l.starts_with("start = "))
         .map(|l| format!("{l}\n"))
         .collect();
     for (from, to) in replace {

