@@ -75,6 +75,15 @@ impl BlockRest<'_> {
         (energy, g, stiffness)
     }
 
+    /// For each of the block's `n` rows, its index in `contact` (`usize::MAX`: no contact row).
+    fn contact_of(&self, n: usize) -> Vec<usize> {
+        let mut contact_of = vec![usize::MAX; n];
+        for (c, &r) in self.contact.iter().enumerate() {
+            contact_of[r] = c;
+        }
+        contact_of
+    }
+
     /// The Hessian K + diag(contact stiffness) of the energy.
     fn hessian(k: &SymmetricSparse, contact_of: &[usize], stiffness: &[f64]) -> SymmetricSparse {
         SymmetricSparse::from_column_fn(k.size(), |j| {
@@ -102,10 +111,7 @@ impl BlockRest<'_> {
         x: &[f64],
     ) -> Option<Vec<f64>> {
         let n = k.size();
-        let mut contact_of = vec![usize::MAX; n];
-        for (c, &r) in self.contact.iter().enumerate() {
-            contact_of[r] = c;
-        }
+        let contact_of = self.contact_of(n);
         let (_, _, stiffness) = self.evaluate(k, x);
         let chol = SparseCholesky::new(&Self::hessian(k, &contact_of, &stiffness)).ok()?;
         let mut rhs = vec![0.0; n];
@@ -123,10 +129,7 @@ impl BlockRest<'_> {
             return None;
         }
         let mut x = vec![0.0; n];
-        let mut contact_of = vec![usize::MAX; n];
-        for (c, &r) in self.contact.iter().enumerate() {
-            contact_of[r] = c;
-        }
+        let contact_of = self.contact_of(n);
         let mut trial = vec![0.0; n];
         for _ in 0..ITERATIONS {
             let (energy, g, stiffness) = self.evaluate(k, &x);
