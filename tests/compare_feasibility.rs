@@ -25,15 +25,18 @@ fn compare_calls_points_outside_the_constraints_infeasible() {
             .output()
             .expect("drillopt runs")
     };
-    let out = run(&["200rpm,30m/h", "30rpm,20m/h", "60rpm,5m/h"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("compare.json")).unwrap())
-            .unwrap();
+    // compare.json of a run that must succeed.
+    let report = |points: &[&str]| -> Value {
+        let out = run(points);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = std::fs::read_to_string(dir.path().join("compare.json")).unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    let json = report(&["200rpm,30m/h", "30rpm,20m/h", "60rpm,5m/h"]);
     let points = json["points"].as_array().unwrap();
     let verdict = |i: usize| {
         (
@@ -60,15 +63,7 @@ fn compare_calls_points_outside_the_constraints_infeasible() {
 
     // Issue 13 item 3: off bottom (V0 = 0) the run does not drill: MSE +∞ gives the score −∞
     // (not NaN), and the point is also said to be outside the V0 bounds.
-    let out = run(&["60rpm,0"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("compare.json")).unwrap())
-            .unwrap();
+    let json = report(&["60rpm,0"]);
     let point = &json["points"][0];
     let why = point["failure"].as_str().unwrap();
     assert_eq!(point["feasible"], false);

@@ -253,12 +253,7 @@ fn risks_use_damage_and_utilization_not_life_and_margin() {
         assert_eq!(e.key(), Some("constraints.chance[0].metric"));
     }
     // The ones to use are accepted, and verify then checks them.
-    let keys = |p: &Problem| -> Vec<&str> {
-        drillopt::verify::decision_metrics(p)
-            .iter()
-            .map(|d| d.key)
-            .collect()
-    };
+    let keys = common::decision_keys;
     let p = seed_with("", &chance("fatigue_damage_per_h", "\"1e-3 1/h\"")).unwrap();
     assert!(keys(&p).contains(&"fatigue_damage_per_h"));
     assert!(!keys(&p).contains(&"max_von_mises_pa"));

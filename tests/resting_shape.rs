@@ -12,12 +12,11 @@ use drillopt::sim::{
     Effects, InitialState, RunSettings, preloaded_equilibrium, simulate, static_equilibrium,
 };
 
+mod common;
+
+/// The shipped seed, with its bit inertia.
 fn seed() -> Problem {
-    Problem::load(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/problems/seed_mc2014.toml"
-    ))
-    .unwrap()
+    Problem::load(common::SEED).unwrap()
 }
 
 /// Radial displacement of every node at the static equilibrium under gravity with the wall, m.
@@ -138,17 +137,8 @@ fn the_default_seed_string_lies_still_through_stick_slip() {
 
 #[test]
 fn verify_checks_the_wall_contact_when_the_problem_decides_on_it() {
-    let keys = |p: &Problem| -> Vec<&str> {
-        drillopt::verify::decision_metrics(p)
-            .iter()
-            .map(|d| d.key)
-            .collect()
-    };
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/problems/seed_mc2014.toml"
-    ))
-    .unwrap();
+    let keys = common::decision_keys;
+    let text = std::fs::read_to_string(common::SEED).unwrap();
     assert!(!keys(&seed()).contains(&"impacts_per_s"));
     let with = |metric: &str| {
         let t = format!(

@@ -119,12 +119,7 @@ fn risks_use_the_utilization_which_needs_a_yield_strength() {
 
 #[test]
 fn verify_checks_the_stress_when_the_problem_decides_on_it() {
-    let keys = |p: &Problem| -> Vec<&str> {
-        drillopt::verify::decision_metrics(p)
-            .iter()
-            .map(|d| d.key)
-            .collect()
-    };
+    let keys = common::decision_keys;
     let seed = std::fs::read_to_string(common::SEED).unwrap();
     assert!(!keys(&common::seed()).contains(&"max_von_mises_pa"));
     let text = seed.replace("[model.pipe]", "[model.pipe]\nyield_strength = \"S-135\"")

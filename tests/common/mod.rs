@@ -12,6 +12,14 @@ pub const SEED_PAPER: &str = concat!(
     "/problems/seed_mc2014_paper.toml"
 );
 
+/// The keys of the metrics `drillopt verify` checks for `p` (`verify::decision_metrics`).
+pub fn decision_keys(p: &drillopt::problem::Problem) -> Vec<&'static str> {
+    drillopt::verify::decision_metrics(p)
+        .iter()
+        .map(|d| d.key)
+        .collect()
+}
+
 /// The seed problem with the paper's string: the bit inertia that the shipped file adds (not in
 /// the paper's Table 1) is taken out, so that the closed forms of the bare pipe apply.
 pub fn seed() -> drillopt::problem::Problem {
