@@ -140,8 +140,26 @@ fn verify_reports_verdicts_that_follow_from_its_numbers() {
             .fold(0.0, f64::max);
         let reported = v["max_rel_change"].as_f64().unwrap();
         assert!((reported - max).abs() <= 1e-12 * max.max(1.0), "{key}");
+        // The perturbed run (Ω·(1 + 1e-4)) is apart from the refinements: its change is the
+        // sensitivity, which alone makes a metric "sensitive".
+        let limit = v["limit"].as_f64().unwrap();
+        let perturbed = v["perturbed"].as_f64().unwrap();
+        let sensitivity = (perturbed - value).abs() / value.abs().max(floor);
+        let reported = v["sensitivity"].as_f64().unwrap();
+        assert!(
+            (reported - sensitivity).abs() <= 1e-12 * sensitivity.max(1.0),
+            "{key}"
+        );
+        let expected = if sensitivity > limit {
+            "sensitive"
+        } else if max > limit {
+            "not_converged"
+        } else {
+            "converged"
+        };
+        assert_eq!(v["verdict"].as_str().unwrap(), expected, "{key}");
         let verdict = v["converged"].as_bool().unwrap();
-        assert_eq!(verdict, max <= v["limit"].as_f64().unwrap(), "{key}");
+        assert_eq!(verdict, expected == "converged", "{key}");
         all &= verdict;
     }
     assert_eq!(all, converged);
@@ -166,7 +184,7 @@ fn verify_ends_with_a_verdict_in_the_terminal_units() {
     } else {
         assert!(last.starts_with("verdict: NOT converged ("), "{stdout}");
         assert!(
-            last.contains(" % > ") && last.contains("refinement"),
+            (last.contains(" % > ") && last.contains("refinement")) || last.contains("sensitive: "),
             "{last}"
         );
     }

@@ -3,7 +3,7 @@
 
 use super::simulate::{PointArgs, point_and_duration};
 use crate::problem::Problem;
-use crate::verify::{self, Refinement, VerifyReport, VerifySettings};
+use crate::verify::{self, Refinement, Verdict, VerifyReport, VerifySettings};
 use anyhow::Context;
 use clap::Args;
 use std::f64::consts::PI;
@@ -22,7 +22,11 @@ pub struct VerifyArgs {
     /// is |r − value| / max(|value|, floor), the floor keeping a metric near 0 from turning
     /// round-off into a large change; the columns of the table are the refined runs ("tolerance":
     /// integrator tolerances ÷4), "limit" the largest change accepted. A `reduced_modes = N`
-    /// basis is refined to the ⌈1.5 N⌉ lowest modes.
+    /// basis is refined to the ⌈1.5 N⌉ lowest modes. "perturbed" is the base model at Ω·(1 +
+    /// 1e-4) and "sensitivity" its relative change, the trajectory's own sensitivity; "verdict"
+    /// is "converged", "not_converged" (a refinement beyond the limit: truncation) or
+    /// "sensitive" (the perturbation alone beyond the limit: the window does not determine the
+    /// metric).
     #[arg(long)]
     pub json: bool,
     /// No progress messages.
@@ -49,16 +53,19 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
     if args.unreduced {
         refinements.push(Refinement::Unreduced);
     }
+    refinements.push(Refinement::Perturbed);
     if !args.quiet {
         eprintln!(
-            "verify {}: base run and {} refinements ({}) at {:.1} rpm, {:.2} m/h, {duration} s …",
+            "verify {}: base run, {} refinements ({}) and the base at Ω·(1 + {:e}) at {:.1} rpm, {:.2} m/h, {duration} s …",
             problem.name,
-            refinements.len(),
+            refinements.len() - 1,
             refinements
                 .iter()
+                .filter(|r| **r != Refinement::Perturbed)
                 .map(|r| r.name())
                 .collect::<Vec<_>>()
                 .join(", "),
+            verify::PERTURBATION,
             op.omega * 60.0 / (2.0 * PI),
             crate::units::to_m_per_h(op.v0)
         );
@@ -96,16 +103,17 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
     })
 }
 
-/// "verdict: converged (every decision metric within its limit)" or "verdict: NOT converged
-/// (stick_fraction changed 12.3 % > 10 % under the basis refinement; …)".
+/// "verdict: converged (every decision metric within its limit)", or "verdict: NOT converged
+/// (stick_fraction changed 12.3 % > 10 % under the basis refinement; …)", each metric whose
+/// perturbed run moved it beyond its limit named as sensitive.
 fn verdict(r: &VerifyReport) -> String {
     if r.converged {
         return "verdict: converged (every decision metric within its limit)".to_string();
     }
-    let why: Vec<String> = r
+    let mut why: Vec<String> = r
         .metrics
         .iter()
-        .filter(|(_, v)| !v.converged)
+        .filter(|(_, v)| v.verdict == Verdict::NotConverged)
         .map(|(k, v)| {
             format!(
                 "{k} changed {:.1} % > {:.0} % under the {} refinement{}",
@@ -116,6 +124,21 @@ fn verdict(r: &VerifyReport) -> String {
             )
         })
         .collect();
+    let sensitive: Vec<String> = r
+        .metrics
+        .iter()
+        .filter(|(_, v)| v.verdict == Verdict::Sensitive)
+        .map(|(k, v)| format!("{k} {:.1} %", 100.0 * v.sensitivity.unwrap_or(f64::NAN)))
+        .collect();
+    if !sensitive.is_empty() {
+        why.push(format!(
+            "sensitive: a {:e} change of Ω alone moves {} beyond the limit, so this window does \
+             not determine them (intermittent or chaotic response): use a longer window \
+             (--duration) or judge them over Monte Carlo samples",
+            verify::PERTURBATION,
+            sensitive.join(", ")
+        ));
+    }
     format!("verdict: NOT converged ({})", why.join("; "))
 }
 
@@ -143,6 +166,7 @@ fn print_table(r: &VerifyReport, s: &VerifySettings, refinements: &[Refinement])
         print!(" {:>12}", refinement.name());
     }
     println!(" {:>9} {:>6}  verdict", "max chg", "limit");
+    // The perturbed run is the last column; its change is not in "max chg".
     for (key, v) in &r.metrics {
         // In the driller's units of the rest of the terminal (kN, kN·m, MPa, m/h, %).
         let d = crate::report::MetricDisplay::of(key);
@@ -152,20 +176,20 @@ fn print_table(r: &VerifyReport, s: &VerifySettings, refinements: &[Refinement])
             significant(d.value(v.value))
         );
         for refinement in refinements {
+            let value = match refinement {
+                Refinement::Perturbed => v.perturbed,
+                r => v.refined.get(r.name()).copied(),
+            };
             print!(
                 " {:>12}",
-                significant(d.value(v.refined[refinement.name()]))
+                value.map_or("-".to_string(), |x| significant(d.value(x)))
             );
         }
         println!(
             " {:>8.2}% {:>5.0}%  {}",
             100.0 * v.max_rel_change,
             100.0 * v.limit,
-            if v.converged {
-                "converged"
-            } else {
-                "NOT converged"
-            }
+            v.verdict.text()
         );
     }
     for run in &r.runs {
