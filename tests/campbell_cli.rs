@@ -75,6 +75,7 @@ fn bad_ranges_and_multiples_are_refused_naming_the_flag() {
         ("--omega-range", "20rpm-200rpm", "LOW..HIGH"),
         ("--omega-range", "20rpm..5000rpm", "<= 1000 rpm"),
         ("--omega-range", "-5rpm..20rpm", "0 <= LOW"),
+        ("--omega-range", "2..20", "`2` has no unit"),
         ("--multiple", "0.5", "in [1, 50]"),
         ("--points", "1", "[2, 2000]"),
     ] {

@@ -205,3 +205,49 @@ fn verify_ends_with_a_verdict_in_the_terminal_units() {
     assert_eq!(row("mse_pa")[1], "MPa");
     assert_eq!(row("stick_fraction")[1], "%");
 }
+
+/// `bit_damping_ratio` in `summary.json` is the bit law's negative damping over the pipe's
+/// torsional impedance, computed here from the tiny string's data by hand (its pipe is the seed's:
+/// R 60/40 mm, E 203 GPa, ν 0.3, ρ 7900 kg/m³, κ_t = Cowper's κ_s; Γ 250 kN, α 180 s/m,
+/// μ 0.04 m); `simulate` warns above 1 and not below.
+#[test]
+fn simulate_reports_the_bit_damping_ratio_and_warns_above_one() {
+    use std::f64::consts::PI;
+    let (ro, ri, e, nu, rho) = (0.06_f64, 0.04_f64, 203e9, 0.3, 7900.0);
+    let m2 = (ri / ro).powi(2);
+    let a = (1.0 + m2).powi(2);
+    let kappa = 6.0 * (1.0 + nu) * a / ((7.0 + 6.0 * nu) * a + (20.0 + 12.0 * nu) * m2);
+    let j = PI / 2.0 * (ro.powi(4) - ri.powi(4));
+    let z = (kappa * e / (2.0 * (1.0 + nu)) * j * rho * j).sqrt();
+    for (rpm, m_per_h, above) in [(60.0, 5.0, false), (40.0, 20.0, true)] {
+        let dir = tempfile::tempdir().unwrap();
+        let (omega, v0) = (format!("{rpm}rpm"), format!("{m_per_h}m/h"));
+        let (ok, _, stderr) = drillopt(&[
+            "simulate",
+            "problems/regression/tiny_string.toml",
+            "--omega",
+            &omega,
+            "--v0",
+            &v0,
+            "--duration",
+            "0.2",
+            "--quiet",
+            "--out",
+            dir.path().to_str().unwrap(),
+        ]);
+        assert!(ok, "{stderr}");
+        let w = rpm * PI / 30.0;
+        let wob = 250e3 * (1.0 - (-180.0 * m_per_h / 3600.0_f64).exp());
+        let dxi = 1.0 - w.tanh().powi(2) + 2.0 * (1.0 - w * w) / (1.0 + w * w).powi(2);
+        let expected = -0.04 * wob * dxi / z;
+        let ratio = summary(dir.path())["metrics"]["bit_damping_ratio"]
+            .as_f64()
+            .unwrap();
+        assert!(
+            (ratio / expected - 1.0).abs() < 1e-9,
+            "{ratio} vs {expected}"
+        );
+        assert_eq!(ratio > 1.0, above, "{rpm} rpm, {m_per_h} m/h: {ratio}");
+        assert_eq!(stderr.contains("bit_damping_ratio > 1"), above, "{stderr}");
+    }
+}

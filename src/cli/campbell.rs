@@ -26,8 +26,8 @@ const MAX_POINTS: usize = 2000;
 pub struct CampbellArgs {
     /// Problem file (TOML).
     pub problem: PathBuf,
-    /// Rotation speeds LOW..HIGH, each with a unit (rpm, rad/s, rev/s, Hz; a bare number is
-    /// rad/s), 0 ≤ LOW < HIGH ≤ 1000 rpm.
+    /// Rotation speeds LOW..HIGH, each with a unit (rpm, rad/s, rev/s, Hz; a bare number other
+    /// than 0 is refused, as for `--omega`), 0 ≤ LOW < HIGH ≤ 1000 rpm.
     #[arg(long, default_value = "20rpm..200rpm", allow_hyphen_values = true)]
     pub omega_range: String,
     /// Number of evenly spaced rotation speeds, in [2, 2000].
@@ -63,12 +63,13 @@ pub struct CampbellArgs {
 /// `LOW..HIGH` in rad/s, refused naming the flag and what is allowed.
 pub(crate) fn parse_omega_range(text: &str) -> anyhow::Result<[f64; 2]> {
     let allowed = format!(
-        "LOW..HIGH with a unit on each (rpm, rad/s, rev/s, Hz; a bare number is rad/s) and 0 <= LOW < HIGH <= {MAX_RPM} rpm, e.g. 20rpm..200rpm"
+        "LOW..HIGH with a unit on each (rpm, rad/s, rev/s, Hz; a bare number other than 0 is refused) and 0 <= LOW < HIGH <= {MAX_RPM} rpm, e.g. 20rpm..200rpm"
     );
     let Some((lo, hi)) = text.split_once("..") else {
         anyhow::bail!("--omega-range must be {allowed}, got {text:?}");
     };
     let parse = |side: &str| {
+        super::simulate::require_unit("--omega-range", side, Dimension::AngularVelocity)?;
         Dimension::AngularVelocity
             .parse(side)
             .map_err(|e| anyhow::anyhow!("--omega-range: {e}; the range must be {allowed}"))

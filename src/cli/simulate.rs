@@ -262,11 +262,15 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         ),
         Err(e) => (None, Some(e.to_string())),
     };
+    let damping_ratio = crate::model::bit_damping_ratio(&problem.model, op);
     let metrics = match margin {
-        Ok(m) => metrics.map(|x| x.with_critical_speed_margin(m)),
+        Ok(m) => metrics.map(|x| {
+            x.with_critical_speed_margin(m)
+                .with_bit_damping_ratio(damping_ratio)
+        }),
         Err(e) => {
             metrics_error.get_or_insert(format!("critical_speed_margin: {e}"));
-            metrics
+            metrics.map(|x| x.with_bit_damping_ratio(damping_ratio))
         }
     };
     // A window too short to batch keeps its metrics and goes without intervals.
@@ -332,12 +336,16 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
 
 fn print_summary(s: &SummaryJson, out: &Path) {
     let st = s.solver;
+    // A run that stopped early did not simulate its duration: say so (the error follows).
+    let done = match s.status {
+        RunStatus::Failed => format!("stopped before the end of its {} s", s.duration_s),
+        _ => format!("{} s simulated", s.duration_s),
+    };
     println!(
-        "{}: Ω = {:.2} rpm, V0 = {:.3} m/h, {} s simulated in {:.1} s ({} steps, {} rejected, min dt {:.2e} s)",
+        "{}: Ω = {:.2} rpm, V0 = {:.3} m/h, {done} in {:.1} s ({} steps, {} rejected, min dt {:.2e} s)",
         s.record.problem,
         s.operating_point.omega_rpm,
         s.operating_point.v0_m_per_h,
-        s.duration_s,
         st.wall_time_s,
         st.steps,
         st.rejected_steps,
@@ -378,6 +386,12 @@ fn print_summary(s: &SummaryJson, out: &Path) {
             m.energy_balance_residual
         );
         println!("  {}", integrity_line(m));
+        if m.bit_damping_ratio > 1.0 {
+            eprintln!(
+                "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1): the bit feeds torsional waves faster than the string carries them away, and the stick-slip statistics depend on the shortest torsional waves the basis holds: expect `drillopt verify` to find them not converged",
+                m.bit_damping_ratio
+            );
+        }
     } else if let Some(e) = &s.metrics_error {
         println!("  metrics unavailable: {e}");
     }

@@ -154,12 +154,18 @@ pub(super) fn significant(x: f64) -> String {
 
 fn print_table(r: &VerifyReport, s: &VerifySettings, refinements: &[Refinement]) {
     println!(
-        "analysis window {:.3}–{:.3} s (the window refinement: to {:.3} s)\nbasis {}\nrefined basis {}",
+        "analysis window {:.3}–{:.3} s (the window refinement: to {:.3} s)\nbasis {}\nrefined basis {}\nbit_damping_ratio {:.3} (the bit's negative damping / the pipe's torsional impedance{})",
         s.settling,
         s.duration,
         2.0 * s.duration - s.settling,
         r.basis,
-        r.refined_basis
+        r.refined_basis,
+        r.bit_damping_ratio,
+        if r.bit_damping_ratio > 1.0 {
+            "; above 1: the stick-slip statistics are set by the shortest torsional waves the basis holds"
+        } else {
+            ""
+        }
     );
     print!("{:<22} {:>7} {:>12}", "metric", "unit", "value");
     for refinement in refinements {

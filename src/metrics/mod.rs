@@ -270,6 +270,13 @@ pub struct Metrics {
     /// `null` in JSON): larger is closer to resonance, e.g. a chance constraint with threshold
     /// 10 keeps Ω at least 10 % from every critical speed.
     pub critical_speed_proximity: f64,
+    /// The bit's negative damping over the pipe's torsional impedance, dimensionless (see
+    /// [`crate::model::bit_damping_ratio`]): ∂T_BR/∂θ̇ at u̇ = V0, θ̇ = Ω divided by
+    /// √(κ_t G J · ρ J). Positive when the bit torque weakens with speed. Above 1 the bit feeds a
+    /// torsional disturbance faster than the pipe can carry it away, the response is set by the
+    /// shortest torsional waves the model holds, and no basis converges (README, "Converged
+    /// model"). It depends on the model and the operating point only. NaN when not computed.
+    pub bit_damping_ratio: f64,
 }
 
 impl Metrics {
@@ -310,6 +317,7 @@ impl Metrics {
             buckling_at_m: n,
             critical_speed_margin: n,
             critical_speed_proximity: n,
+            bit_damping_ratio: n,
         }
     }
 
@@ -355,9 +363,15 @@ impl Metrics {
         self
     }
 
+    /// These metrics with `bit_damping_ratio` = `ratio` (see the field).
+    pub fn with_bit_damping_ratio(mut self, ratio: f64) -> Self {
+        self.bit_damping_ratio = ratio;
+        self
+    }
+
     /// Every metric with its `summary.json` key, values as they are (±∞ and NaN included: a
     /// JSON round trip would turn them into null).
-    pub fn named_values(&self) -> [(&'static str, f64); 33] {
+    pub fn named_values(&self) -> [(&'static str, f64); 34] {
         [
             ("mean_rop_m_s", self.mean_rop_m_s),
             ("mean_rop_m_per_h", self.mean_rop_m_per_h),
@@ -398,6 +412,7 @@ impl Metrics {
             ("buckling_at_m", self.buckling_at_m),
             ("critical_speed_margin", self.critical_speed_margin),
             ("critical_speed_proximity", self.critical_speed_proximity),
+            ("bit_damping_ratio", self.bit_damping_ratio),
         ]
     }
 }

@@ -419,6 +419,8 @@ fn serializes_with_exactly_the_documented_keys() {
         (m.critical_speed_margin, m.critical_speed_proximity),
         (0.25, 4.0)
     );
+    let m = m.with_bit_damping_ratio(0.34);
+    assert_eq!(m.bit_damping_ratio, 0.34);
     let json = serde_json::to_value(&m).unwrap();
     let mut keys: Vec<&str> = json
         .as_object()

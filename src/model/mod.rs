@@ -12,7 +12,7 @@ mod section;
 pub mod wall;
 
 pub use basis::{BasisSpec, FamilySize};
-pub use bit::{BitLoad, BitRock, BitRockLaw};
+pub use bit::{BitLoad, BitRock, BitRockLaw, bit_damping_ratio, torsional_impedance};
 pub use buckling::BucklingLoads;
 pub use law::{Chosen, Law, LawEntry};
 pub use parameters::{Enters, ParameterKey, ParameterSpec};

@@ -275,7 +275,7 @@ impl Study {
 }
 
 /// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
-pub const METRICS: [&str; 33] = [
+pub const METRICS: [&str; 34] = [
     "mean_rop_m_s",
     "mean_rop_m_per_h",
     "stick_slip_severity",
@@ -309,6 +309,7 @@ pub const METRICS: [&str; 33] = [
     "buckling_at_m",
     "critical_speed_margin",
     "critical_speed_proximity",
+    "bit_damping_ratio",
 ];
 
 /// The dimension of a metric's value and the factor from SI to the unit its key names (the value
@@ -339,7 +340,8 @@ pub fn metric_unit(key: &str) -> Option<(super::Dimension, f64)> {
         | "helical_buckling_utilization"
         | "buckling_margin"
         | "critical_speed_margin"
-        | "critical_speed_proximity" => (Dimensionless, 1.0),
+        | "critical_speed_proximity"
+        | "bit_damping_ratio" => (Dimensionless, 1.0),
         "impacts_per_s" => (Rate, 1.0),
         "peak_wall_force_n" | "mean_wob_n" | "max_compression_n" => (Force, 1.0),
         "contact_impulse_ns" => (Impulse, 1.0),

@@ -63,6 +63,7 @@ impl<'a> MetricDisplay<'a> {
             "buckling_at_m" => ("where compression is closest to buckling", "m", 1.0),
             "critical_speed_margin" => ("distance from the nearest critical speed", "%", 100.0),
             "critical_speed_proximity" => ("critical speed proximity (1 / margin)", "", 1.0),
+            "bit_damping_ratio" => ("bit negative damping / pipe torsional impedance", "", 1.0),
             other => (other, "", 1.0),
         };
         MetricDisplay { name, unit, scale }

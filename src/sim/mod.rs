@@ -33,4 +33,5 @@ pub use series::{CHANNELS, Channel, Frame, Row, Sink, TimeSeries, at};
 /// (Campbell diagram at rest) in every record; the simulated motion is unchanged.
 /// 6: the resting shape of each bending plane in the basis (part of the static corrections): the
 /// reduced string lies on the wall where the finite-element model does.
-pub const SIMULATOR_REVISION: u32 = 6;
+/// 7: metric bit_damping_ratio in every record; the simulated motion is unchanged.
+pub const SIMULATOR_REVISION: u32 = 7;

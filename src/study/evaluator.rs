@@ -363,7 +363,8 @@ impl<'a> RobustEvaluator<'a> {
         let config = MetricsConfig::new(op.omega, op.v0, model.string.borehole_radius, settling);
         match metrics::of_run(&out, &config, model.string.pipe.yield_strength) {
             Ok(m) => SampleOutcome::Metrics(metric_map(
-                &m.with_critical_speed_margin(self.critical_speed_margin(index, op.omega)),
+                &m.with_critical_speed_margin(self.critical_speed_margin(index, op.omega))
+                    .with_bit_damping_ratio(crate::model::bit_damping_ratio(&model.string, op)),
             )),
             Err(e) => SampleOutcome::Failed(format!("metrics: {e}")),
         }

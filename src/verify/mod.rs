@@ -325,6 +325,9 @@ pub struct VerifyRun {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct VerifyReport {
     pub metrics: BTreeMap<&'static str, MetricVerdict>,
+    /// [`crate::model::bit_damping_ratio`] at the operating point: above 1 the stick-slip
+    /// statistics are set by the shortest torsional waves the basis holds and do not converge.
+    pub bit_damping_ratio: f64,
     pub converged: bool,
     pub basis: BasisCounts,
     pub refined_basis: BasisCounts,
@@ -484,6 +487,7 @@ pub fn verify_with(
         .find(|(r, _)| r.name == Refinement::Basis.name())
         .map_or(base_run.basis, |(r, _)| r.basis);
     Ok(VerifyReport {
+        bit_damping_ratio: crate::model::bit_damping_ratio(&problem.model, settings.op),
         converged: verdicts.values().all(|v| v.converged),
         metrics: verdicts,
         basis: base_run.basis,

@@ -12,9 +12,11 @@
 
 mod detournay;
 mod exponential;
+mod impedance;
 
 pub use detournay::Detournay;
 pub use exponential::{Exponential, xi};
+pub use impedance::{bit_damping_ratio, torsional_impedance};
 
 use super::law::{Chosen, Law, LawEntry, law_kind};
 
