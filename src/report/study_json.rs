@@ -101,6 +101,8 @@ pub struct WorkJson {
     pub simulations_run: usize,
     pub simulations_from_cache: usize,
     pub simulations_failed: usize,
+    /// Samples per point; with sequential sampling, the most a point may use (each point's
+    /// count is its `samples_used`).
     pub samples_per_point: usize,
     /// What ran the simulations ("2 threads", "4 MPI ranks").
     pub executor: String,
