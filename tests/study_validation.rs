@@ -414,3 +414,128 @@ fn ego_settings_defaults_and_refusals() {
         "min_radius"
     );
 }
+
+/// `[uncertain.sequential]` (issue 16 item 3): read with its defaults, and every key refused
+/// outside its range naming the file, the key and what is allowed, all in one pass.
+#[test]
+fn sequential_sampling_keys_are_read_and_checked() {
+    const PARAM: &str = "[[uncertain.parameter]]\nkey = \"model.bit.limit_force\"\nlaw = \"gamma\"\nmean = \"250 kN\"\ncov = 0.1\n";
+    let read = |section: &str| {
+        Problem::from_toml(
+            &(base() + "[uncertain]\nsamples = 64\n" + section + PARAM),
+            Path::new("study.toml"),
+        )
+    };
+    let s = read("[uncertain.sequential]\nmin_samples = 8\nscore_half_width = 0.5\n")
+        .unwrap()
+        .study;
+    let rule = s.sequential.unwrap();
+    assert_eq!(
+        (s.samples, rule.min_samples, rule.score_half_width),
+        (64, 8, 0.5)
+    );
+    assert_eq!((rule.confidence, rule.resamples), (0.95, 2000), "defaults");
+    let s = read(
+        "[uncertain.sequential]\nmin_samples = 2\nscore_half_width = 1e-3\nconfidence = 0.9\nresamples = 500\n",
+    )
+    .unwrap()
+    .study;
+    assert_eq!(s.score_interval().confidence, 0.9);
+    assert_eq!(s.sequential.unwrap().resamples, 500);
+    // Without the section: the fixed count, the interval at the default level.
+    let s = read("").unwrap().study;
+    assert_eq!((s.sequential, s.score_interval().confidence), (None, 0.95));
+
+    let refused = |section: &str| read(section).unwrap_err().to_string();
+    let cases: [(&str, &[&str]); 8] = [
+        (
+            "[uncertain.sequential]\nmin_samples = 64\nscore_half_width = 0.5\n",
+            &[
+                "uncertain.sequential.min_samples",
+                "[2, 63]",
+                "uncertain.samples = 64",
+                "got 64",
+            ],
+        ),
+        (
+            "[uncertain.sequential]\nmin_samples = 1\nscore_half_width = 0.5\n",
+            &["uncertain.sequential.min_samples", "[2, 63]", "got 1"],
+        ),
+        (
+            "[uncertain.sequential]\nmin_samples = 8\nscore_half_width = 0.0\n",
+            &[
+                "uncertain.sequential.score_half_width",
+                "(0, 1e6]",
+                "m/h",
+                "got 0",
+            ],
+        ),
+        (
+            "[uncertain.sequential]\nmin_samples = 8\nscore_half_width = -1.0\n",
+            &["uncertain.sequential.score_half_width", "got -1"],
+        ),
+        (
+            "[uncertain.sequential]\nmin_samples = 8\nscore_half_width = 0.5\nconfidence = 1.0\n",
+            &["uncertain.sequential.confidence", "[0.5, 0.999]", "got 1"],
+        ),
+        (
+            "[uncertain.sequential]\nmin_samples = 8\nscore_half_width = 0.5\nresamples = 10\n",
+            &["uncertain.sequential.resamples", "[200, 100000]", "got 10"],
+        ),
+        (
+            "[uncertain.sequential]\nmin_samples = 8\nscore_half_width = 0.5\nmax_samples = 64\n",
+            &["uncertain.sequential", "max_samples"],
+        ),
+        (
+            "[uncertain.sequential]\nmin_samples = 8\n",
+            &["uncertain.sequential.score_half_width", "missing"],
+        ),
+    ];
+    for (section, parts) in cases {
+        let msg = refused(section);
+        assert_names(&msg, &["study.toml"]);
+        assert_names(&msg, parts);
+    }
+    // Three bad keys, three lines.
+    let msg = refused(
+        "[uncertain.sequential]\nmin_samples = 0\nscore_half_width = 0.0\nconfidence = 0.2\n",
+    );
+    assert_eq!(msg.lines().count(), 3, "{msg}");
+    // Too few samples to leave room for a stopping rule.
+    let msg = Problem::from_toml(
+        &(base()
+            + "[uncertain]\nsamples = 2\n[uncertain.sequential]\nmin_samples = 2\nscore_half_width = 0.5\n"
+            + PARAM),
+        Path::new("study.toml"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert_names(
+        &msg,
+        &[
+            "study.toml",
+            "uncertain.sequential.min_samples",
+            "uncertain.samples = 2",
+            "at least 3",
+        ],
+    );
+}
+
+/// `--samples` with sequential sampling sets the most samples a point may use: it must exceed
+/// `min_samples`.
+#[test]
+fn the_samples_override_is_the_sequential_maximum() {
+    let text = base()
+        + "[uncertain]\nsamples = 16\n[uncertain.sequential]\nmin_samples = 8\nscore_half_width = 0.5\n\
+           [[uncertain.parameter]]\nkey = \"model.bit.rate\"\nlaw = \"gamma\"\nmean = \"180 s/m\"\ncov = 0.1\n";
+    let mut study = Problem::from_toml(&text, Path::new("study.toml"))
+        .unwrap()
+        .study;
+    let why = study.override_samples(8).unwrap_err();
+    assert!(
+        why.contains("min_samples = 8") && why.contains("got 8"),
+        "{why}"
+    );
+    study.override_samples(32).unwrap();
+    assert_eq!(study.samples, 32);
+}

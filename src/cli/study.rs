@@ -170,10 +170,13 @@ pub fn print_table(points: &[PointEvaluation]) {
 pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str) {
     match best {
         Some(b) => println!(
-            "{label}: Ω = {:.1} rpm, V0 = {:.2} m/h, score {:.3}",
+            "{label}: Ω = {:.1} rpm, V0 = {:.2} m/h, score {:.3}{} ({})",
             b.omega_rpm,
             b.v0_m_per_h,
-            b.objective.unwrap_or(f64::NAN)
+            b.objective.unwrap_or(f64::NAN),
+            b.score_half_width
+                .map_or_else(String::new, |h| format!(" ± {h:.3}")),
+            crate::units::count(b.samples_used, "sample")
         ),
         None => println!("{none}"),
     }
@@ -184,12 +187,17 @@ pub(super) fn table_row(p: &PointEvaluation) -> String {
     let score = p
         .objective
         .map_or_else(|| "   failed".to_string(), |s| format!("{s:9.3}"));
+    let half_width = p
+        .score_half_width
+        .map_or_else(|| "       -".to_string(), |h| format!("±{h:7.3}"));
     let m = |k: &str| p.mean_metrics.get(k).copied().unwrap_or(f64::NAN);
     format!(
-        "{:7.1} {:8.2} {} {:8.3} {:6.2} {:7.2} {:9.1} {:8.1} {}",
+        "{:7.1} {:8.2} {} {} {:4} {:8.3} {:6.2} {:7.2} {:9.1} {:8.1} {}",
         p.omega_rpm,
         p.v0_m_per_h,
         score,
+        half_width,
+        p.samples_used,
         m("mean_rop_m_per_h"),
         m("stick_slip_severity"),
         m("stick_fraction"),
@@ -199,5 +207,7 @@ pub(super) fn table_row(p: &PointEvaluation) -> String {
     )
 }
 
+/// `±`: the half-width of the score's confidence interval (95 % unless
+/// `uncertain.sequential.confidence` says otherwise); `n`: the samples the point used.
 pub(super) const TABLE_HEADER: &str =
-    "    rpm      m/h     score  ROP m/h    SSI   stick  impacts/s  WOB kN feasible";
+    "    rpm      m/h     score        ±    n  ROP m/h    SSI   stick  impacts/s  WOB kN feasible";

@@ -21,6 +21,19 @@ pub struct UncertainSection {
     pub seed: Option<i64>,
     #[serde(default)]
     pub parameter: Vec<RawParameter>,
+    /// `[uncertain.sequential]`: the samples per point chosen by a stopping rule, `samples`
+    /// being the most a point may use.
+    pub sequential: Option<RawSequential>,
+}
+
+/// `[uncertain.sequential]` as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSequential {
+    pub min_samples: i64,
+    pub score_half_width: f64,
+    pub confidence: Option<f64>,
+    pub resamples: Option<i64>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -210,11 +223,49 @@ pub struct Expect {
     pub active: Option<Vec<ActiveConstraint>>,
 }
 
+/// Sequential sampling (`[uncertain.sequential]`): each point starts with `min_samples`
+/// samples and doubles them (at most [`Study::samples`]) while the bootstrap confidence
+/// interval of its score is wider than ± `score_half_width` (see [`crate::study::sequential`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Sequential {
+    /// Samples every point starts with; in [2, `samples` − 1].
+    pub min_samples: usize,
+    /// Target half-width of the score's confidence interval, in the score's unit (m/h for
+    /// `quantity = "rop"`, 1 for efficiency); finite, > 0.
+    pub score_half_width: f64,
+    /// Confidence level of the interval; in [0.5, 0.999], default [`CONFIDENCE`].
+    pub confidence: f64,
+    /// Bootstrap resamples per interval; in [`RESAMPLES_RANGE`], default [`RESAMPLES`].
+    pub resamples: usize,
+}
+
+/// Confidence level of the score's interval when the file does not give one (and of the
+/// interval reported with a fixed sample count).
+pub const CONFIDENCE: f64 = 0.95;
+/// Largest `uncertain.sequential.score_half_width` (in the score's unit).
+pub const SCORE_HALF_WIDTH_MAX: f64 = 1e6;
+/// Legal range of `uncertain.sequential.confidence`.
+pub const CONFIDENCE_RANGE: std::ops::RangeInclusive<f64> = 0.5..=0.999;
+/// Bootstrap resamples of the score's interval when the file does not say.
+pub const RESAMPLES: usize = 2000;
+/// Legal range of `uncertain.sequential.resamples`.
+pub const RESAMPLES_RANGE: std::ops::RangeInclusive<usize> = 200..=100_000;
+
+/// How the confidence interval of a score is estimated: level and bootstrap resamples.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScoreInterval {
+    pub confidence: f64,
+    pub resamples: usize,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Study {
     pub uncertain: Vec<UncertainParameter>,
-    /// Monte Carlo samples per design point (1 and no parameters: deterministic).
+    /// Monte Carlo samples per design point (1 and no parameters: deterministic); with
+    /// `sequential`, the most a point may use.
     pub samples: usize,
+    /// Sequential sampling; None: every point uses `samples` samples.
+    pub sequential: Option<Sequential>,
     pub seed: u64,
     pub quantity: Quantity,
     /// Statistic of the quantity (a gain: mean, lower_cvar, quantile, min).
@@ -248,9 +299,25 @@ pub struct Overrides {
 }
 
 impl Study {
+    /// The level and resamples of the score's confidence interval: the sequential rule's, else
+    /// the defaults ([`CONFIDENCE`], [`RESAMPLES`]).
+    pub fn score_interval(&self) -> ScoreInterval {
+        self.sequential.map_or(
+            ScoreInterval {
+                confidence: CONFIDENCE,
+                resamples: RESAMPLES,
+            },
+            |s| ScoreInterval {
+                confidence: s.confidence,
+                resamples: s.resamples,
+            },
+        )
+    }
+
     /// Use `n` Monte Carlo samples per point instead of `uncertain.samples`, under the key's
-    /// rules: `n` in [`SAMPLES`], and more than one only with uncertain parameters. Err: what is
-    /// allowed, in words.
+    /// rules: `n` in [`SAMPLES`], more than one only with uncertain parameters, and, with
+    /// sequential sampling, more than `min_samples` (`n` is then the most a point may use). Err:
+    /// what is allowed, in words.
     pub fn override_samples(&mut self, n: usize) -> Result<(), String> {
         if !SAMPLES.contains(&n) {
             return Err(format!("must be an integer in [1, 10000], got {n}"));
@@ -258,6 +325,14 @@ impl Study {
         if n > 1 && self.uncertain.is_empty() {
             return Err(format!(
                 "the problem has no [[uncertain.parameter]], so the {n} samples would all be the same; declare one or use 1"
+            ));
+        }
+        if let Some(s) = &self.sequential
+            && n <= s.min_samples
+        {
+            return Err(format!(
+                "with [uncertain.sequential] it is the most samples a point may use and must exceed uncertain.sequential.min_samples = {}, got {n}",
+                s.min_samples
             ));
         }
         self.samples = n;

@@ -24,6 +24,11 @@ pub(super) fn study(
         None => (Vec::new(), 1, 0),
         Some(u) => uncertain(c, u, model)?,
     };
+    let sequential = raw
+        .uncertain
+        .as_ref()
+        .and_then(|u| u.sequential.as_ref())
+        .and_then(|s| sequential(c, s, samples));
     let (quantity, statistic, risk) = match &raw.objective {
         None => (Quantity::Rop, Statistic::Mean, Vec::new()),
         Some(o) => objective(c, o)?,
@@ -96,6 +101,7 @@ pub(super) fn study(
     Ok(Study {
         uncertain,
         samples,
+        sequential,
         seed,
         quantity,
         statistic,
@@ -234,6 +240,82 @@ fn uncertain(
         ));
     }
     Ok((params, u.samples as usize, seed))
+}
+
+/// `[uncertain.sequential]` against `samples` (the most a point may use). Every refused key
+/// is recorded (one pass); None when one was.
+fn sequential(c: &Checker, s: &RawSequential, samples: usize) -> Option<Sequential> {
+    let before = c.errors_recorded();
+    let key = |k: &str| format!("uncertain.sequential.{k}");
+    let min_samples = match usize::try_from(s.min_samples) {
+        Ok(n) if n >= 2 && n < samples => n,
+        _ if samples < 3 => {
+            c.record(
+                &key("min_samples"),
+                format!(
+                    "must be an integer in [2, uncertain.samples − 1], and uncertain.samples = {samples} (the most samples a point may use) leaves no room: raise it to at least 3, got min_samples = {}",
+                    s.min_samples
+                ),
+            );
+            0
+        }
+        _ => {
+            c.record(
+                &key("min_samples"),
+                format!(
+                    "must be an integer in [2, {}] (at least 2 for an interval, fewer than uncertain.samples = {samples}, the most samples a point may use), got {}",
+                    samples - 1,
+                    s.min_samples
+                ),
+            );
+            0
+        }
+    };
+    let w = s.score_half_width;
+    if !(w.is_finite() && w > 0.0 && w <= SCORE_HALF_WIDTH_MAX) {
+        c.record(
+            &key("score_half_width"),
+            format!(
+                "must be a number in (0, {SCORE_HALF_WIDTH_MAX:e}], in the score's unit (m/h for quantity = \"rop\", 1 for \"efficiency\"), got {}",
+                crate::units::show(w)
+            ),
+        );
+    }
+    let confidence = s.confidence.unwrap_or(CONFIDENCE);
+    if !CONFIDENCE_RANGE.contains(&confidence) {
+        c.record(
+            &key("confidence"),
+            format!(
+                "must be a number in [{}, {}] (the level of the score's confidence interval), got {}",
+                CONFIDENCE_RANGE.start(),
+                CONFIDENCE_RANGE.end(),
+                crate::units::show(confidence)
+            ),
+        );
+    }
+    let resamples = match s.resamples {
+        None => RESAMPLES,
+        Some(n) => match usize::try_from(n) {
+            Ok(n) if RESAMPLES_RANGE.contains(&n) => n,
+            _ => {
+                c.record(
+                    &key("resamples"),
+                    format!(
+                        "must be an integer in [{}, {}] (bootstrap resamples of the score), got {n}",
+                        RESAMPLES_RANGE.start(),
+                        RESAMPLES_RANGE.end()
+                    ),
+                );
+                0
+            }
+        },
+    };
+    (c.errors_recorded() == before).then_some(Sequential {
+        min_samples,
+        score_half_width: w,
+        confidence,
+        resamples,
+    })
 }
 
 fn statistic(

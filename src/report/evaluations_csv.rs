@@ -230,6 +230,9 @@ cov = 0.1
             feasible: false,
             failure: Some("sample 1 failed".into()),
             mean_metrics: BTreeMap::new(),
+            samples_used: 2,
+            score_half_width: None,
+            score_interval: None,
             samples: vec![
                 SampleResult {
                     sample: 0,

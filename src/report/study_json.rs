@@ -43,8 +43,11 @@ pub struct StudyHeader<'a> {
     #[serde(flatten)]
     pub record: ProblemRecord<'a>,
     pub seed: u64,
-    /// Monte Carlo samples per point that ran (the file's, or `--samples`).
+    /// Monte Carlo samples per point that ran (the file's, or `--samples`); with sequential
+    /// sampling, the most a point may use.
     pub samples: usize,
+    /// `[uncertain.sequential]`: the stopping rule (null: every point uses `samples`).
+    pub sequential: Option<crate::problem::study::Sequential>,
     /// What the command line changed (`samples`, `budget`, `threads`; null: the file's value).
     pub overrides: crate::problem::study::Overrides,
 }
@@ -55,6 +58,7 @@ impl<'a> StudyHeader<'a> {
             record: ProblemRecord::of(problem, file),
             seed: problem.study.seed,
             samples: problem.study.samples,
+            sequential: problem.study.sequential,
             overrides: problem.study.overrides,
         }
     }
@@ -97,6 +101,8 @@ pub struct WorkJson {
     pub simulations_run: usize,
     pub simulations_from_cache: usize,
     pub simulations_failed: usize,
+    /// Samples per point; with sequential sampling, the most a point may use (each point's
+    /// count is its `samples_used`).
     pub samples_per_point: usize,
     /// What ran the simulations ("2 threads", "4 MPI ranks").
     pub executor: String,
@@ -125,6 +131,10 @@ pub struct EvaluationJson {
     pub omega_rpm: f64,
     pub v0_m_per_h: f64,
     pub objective: Option<f64>,
+    /// Half-width of the score's bootstrap confidence interval (null: no score, or 1 sample).
+    pub score_half_width: Option<f64>,
+    /// Monte Carlo samples the point used.
+    pub samples_used: usize,
     pub feasible: bool,
     pub failure: Option<String>,
     pub mean_metrics: BTreeMap<String, f64>,
@@ -138,6 +148,8 @@ impl EvaluationJson {
             omega_rpm: p.omega_rpm,
             v0_m_per_h: p.v0_m_per_h,
             objective: p.objective,
+            score_half_width: p.score_half_width,
+            samples_used: p.samples_used,
             feasible: p.feasible,
             failure: p.failure.clone(),
             mean_metrics: p.mean_metrics.clone(),
@@ -149,6 +161,14 @@ impl EvaluationJson {
 pub struct ObjectiveJson {
     /// The score (maximised): statistic of the quantity minus the weighted risk terms.
     pub score: f64,
+    /// Half-width of its bootstrap confidence interval, at `score_confidence`.
+    pub score_half_width: Option<f64>,
+    /// That interval, [low, high].
+    pub score_interval: Option<[f64; 2]>,
+    /// The level of the interval.
+    pub score_confidence: f64,
+    /// Monte Carlo samples the optimum used.
+    pub samples_used: usize,
     pub quantity: &'static str,
     pub quantity_unit: &'static str,
     pub statistic: Statistic,
@@ -248,6 +268,10 @@ impl<'a> SolutionJson<'a> {
             optimum: best.map(PointJson::of),
             objective: best.map(|b| ObjectiveJson {
                 score: b.objective.expect("best is scored"),
+                score_half_width: b.score_half_width,
+                score_interval: b.score_interval,
+                score_confidence: study.score_interval().confidence,
+                samples_used: b.samples_used,
                 quantity,
                 quantity_unit: unit,
                 statistic: study.statistic,

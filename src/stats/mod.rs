@@ -11,9 +11,12 @@
 //!   order. See [`sample_seed`] for the seed derivation and [`sample_rng`] for the generator.
 //! * [`Statistic`]: mean, standard deviation, quantile, CVaR (upper and lower), probability of
 //!   exceedance, max and min of one metric over the samples.
+//! * [`percentile_interval`]: the bootstrap percentile interval of any statistic of the samples
+//!   (Efron & Tibshirani 1993), the confidence of a robust score.
 //!
 //! Values are in the units of the parameter or metric they describe; this module does not know them.
 
+mod bootstrap;
 mod distribution;
 mod sampling;
 mod statistic;
@@ -21,6 +24,7 @@ mod statistic;
 #[cfg(test)]
 mod tests;
 
+pub use bootstrap::{Interval, percentile_interval};
 pub use distribution::{Distribution, lognormal_log_params};
 pub use sampling::{Sample, SampleRng, SampleSet, sample_rng, sample_seed, splitmix64_mix};
 pub use statistic::{Statistic, cvar, lower_cvar, max, mean, min, prob_exceed, quantile, std_dev};

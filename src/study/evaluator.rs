@@ -9,6 +9,7 @@
 
 use super::executor::{SampleExecutor, SampleJob, Simulated, Threads};
 use super::score::{PointEvaluation, SampleOutcome, SampleResult, metric_map, score};
+use super::sequential::evaluate_in_rounds;
 use crate::cache::{CacheKey, EvalCache, EvalInfo, Outcome, stable_hash};
 use crate::campbell::{self, LinearSystem, Linearisation, MarginTable};
 use crate::metrics::{self, MetricsConfig};
@@ -233,7 +234,7 @@ impl<'a> RobustEvaluator<'a> {
         self.executor.as_ref()
     }
 
-    /// Simulations per point.
+    /// Simulations per point; with sequential sampling, the most a point may use.
     pub fn samples_per_point(&self) -> usize {
         self.samples.len()
     }
@@ -242,7 +243,8 @@ impl<'a> RobustEvaluator<'a> {
     /// batch for the executor; results are stored to the cache as they arrive. Each point is
     /// first snapped to its canonical bits ([`crate::units::canonical_point`]): the same point
     /// reached by the optimizer's scaling or by the parse of `--point` is the same cache entry,
-    /// and the returned evaluations are at the canonical points.
+    /// and the returned evaluations are at the canonical points. With `[uncertain.sequential]`
+    /// the points are evaluated in rounds, one batch per round ([`super::sequential`]).
     pub fn evaluate(&self, points: &[OperatingPoint]) -> Vec<PointEvaluation> {
         let points: Vec<OperatingPoint> = points
             .iter()
@@ -252,10 +254,39 @@ impl<'a> RobustEvaluator<'a> {
             })
             .collect();
         let n = self.samples.len();
+        if let Some(rule) = &self.problem.study.sequential {
+            return evaluate_in_rounds(
+                rule,
+                n,
+                points.len(),
+                |jobs| {
+                    let jobs: Vec<SampleJob> = jobs
+                        .iter()
+                        .map(|&(p, sample)| SampleJob {
+                            op: points[p],
+                            sample,
+                        })
+                        .collect();
+                    self.run_jobs(&jobs)
+                },
+                |p, samples| self.score(points[p], samples),
+            );
+        }
         let jobs: Vec<SampleJob> = points
             .iter()
             .flat_map(|&op| (0..n).map(move |sample| SampleJob { op, sample }))
             .collect();
+        let results = self.run_jobs(&jobs);
+        points
+            .iter()
+            .zip(results.chunks(n))
+            .map(|(op, s)| self.score(*op, s.to_vec()))
+            .collect()
+    }
+
+    /// The results of `jobs`, in order: from the cache where it has them, the rest simulated
+    /// as one batch of the executor (and stored to the cache as they arrive).
+    fn run_jobs(&self, jobs: &[SampleJob]) -> Vec<SampleResult> {
         let mut results: Vec<Option<SampleResult>> = vec![None; jobs.len()];
         let mut missing: Vec<usize> = Vec::new();
         for (k, job) in jobs.iter().enumerate() {
@@ -273,13 +304,7 @@ impl<'a> RobustEvaluator<'a> {
         for (&k, run) in missing.iter().zip(simulated) {
             results[k] = Some(self.result(jobs[k], run.outcome, false));
         }
-        let results: Vec<SampleResult> =
-            results.into_iter().map(|r| r.expect("every job")).collect();
-        points
-            .iter()
-            .zip(results.chunks(n))
-            .map(|(op, s)| self.score(*op, s.to_vec()))
-            .collect()
+        results.into_iter().map(|r| r.expect("every job")).collect()
     }
 
     fn key(&self, job: SampleJob) -> CacheKey {

@@ -5,7 +5,9 @@
 //! * [`evaluator`]: [`RobustEvaluator`] draws the samples, builds the reduced models, forms each
 //!   batch of (point, sample) jobs and goes through the evaluation cache;
 //! * [`executor`]: who runs a batch ([`Threads`] by default, [`Serial`] as a reference);
-//! * [`score`]: statistic of the quantity minus risk penalties, chance constraints, feasibility.
+//! * [`score`]: statistic of the quantity minus risk penalties, its bootstrap confidence
+//!   interval, chance constraints, feasibility;
+//! * [`sequential`]: the samples per point chosen by a stopping rule on that interval.
 //!
 //! The statistics themselves live in [`crate::stats`], shared with the problem layer.
 
@@ -14,10 +16,12 @@ pub mod executor;
 #[cfg(feature = "mpi")]
 pub mod mpi;
 pub mod score;
+pub mod sequential;
 
 pub use evaluator::{RobustEvaluator, SetupError, WorkCounters, model_hash};
 pub use executor::{OnResult, RunJob, SampleExecutor, SampleJob, Serial, Simulated, Threads};
 pub use score::{
-    ChanceValue, PointEvaluation, RiskValue, SampleOutcome, SampleResult, deterministic_violations,
-    metric_map, score,
+    ChanceValue, PointEvaluation, RiskValue, SampleOutcome, SampleResult, bootstrap_seed,
+    deterministic_violations, metric_map, score, score_interval,
 };
+pub use sequential::{evaluate_in_rounds, next_count};

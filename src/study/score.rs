@@ -4,7 +4,7 @@
 
 use crate::model::OperatingPoint;
 use crate::problem::study::{Quantity, Study};
-use crate::stats::{self, Statistic};
+use crate::stats::{self, Statistic, sample_seed, splitmix64_mix};
 use crate::units::{to_m_per_h, to_rpm};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -67,6 +67,14 @@ pub struct PointEvaluation {
     pub failure: Option<String>,
     /// Mean of every metric over the samples (when none failed).
     pub mean_metrics: BTreeMap<String, f64>,
+    /// Monte Carlo samples the point was evaluated with (samples 0..n: with sequential sampling,
+    /// where the stopping rule stopped).
+    pub samples_used: usize,
+    /// Half-width of the score's bootstrap confidence interval, in the score's unit, at the
+    /// level of [`Study::score_interval`]; None without a score or with one sample.
+    pub score_half_width: Option<f64>,
+    /// That interval, [low, high] (the percentile interval need not be centred on the score).
+    pub score_interval: Option<[f64; 2]>,
     pub samples: Vec<SampleResult>,
 }
 
@@ -142,6 +150,48 @@ pub fn deterministic_violations(
     out
 }
 
+/// Mixed into the study's seed for the bootstrap's generator, so that it draws apart from the
+/// samples' own streams (the bytes of "bootstra").
+const BOOTSTRAP_TAG: u64 = 0x626f_6f74_7374_7261;
+
+/// The seed of the bootstrap of a score over `n` samples under the study's `master_seed`: every
+/// point with `n` samples resamples the same indices (common random numbers for the interval
+/// too), and a run is reproducible from the seed whatever the order of evaluation.
+pub fn bootstrap_seed(master_seed: u64, n: usize) -> u64 {
+    sample_seed(splitmix64_mix(master_seed ^ BOOTSTRAP_TAG), n)
+}
+
+/// The confidence interval of the score over samples whose quantity column is `quantity` and
+/// risk columns `risk` (one per [`Study::risk`] term, in order): the bootstrap percentile
+/// interval of statistic(quantity) − Σ weight·statistic(metric), the whole score resampled at
+/// once so that the terms' correlation over the samples is kept. None for fewer than 2 samples.
+pub fn score_interval(
+    study: &Study,
+    quantity: &[f64],
+    risk: &[Vec<f64>],
+) -> Option<stats::Interval> {
+    let n = quantity.len();
+    if n < 2 {
+        return None;
+    }
+    let settings = study.score_interval();
+    let pick =
+        |column: &[f64], idx: &[usize]| -> Vec<f64> { idx.iter().map(|&i| column[i]).collect() };
+    stats::percentile_interval(
+        n,
+        settings.resamples,
+        settings.confidence,
+        bootstrap_seed(study.seed, n),
+        |idx| {
+            let mut score = study.statistic.apply(&pick(quantity, idx));
+            for (r, column) in study.risk.iter().zip(risk) {
+                score -= r.weight * r.statistic.apply(&pick(column, idx));
+            }
+            score
+        },
+    )
+}
+
 /// The score of a point from its samples (see [`crate::problem::study`] for the conventions).
 /// A point is feasible when it meets the bounds, the linear constraints and the chance
 /// constraints; an infeasible point keeps its score and says why in `failure`.
@@ -158,6 +208,9 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
         feasible: false,
         failure: None,
         mean_metrics: BTreeMap::new(),
+        samples_used: samples.len(),
+        score_half_width: None,
+        score_interval: None,
         samples: Vec::new(),
     };
     let maps: Vec<&BTreeMap<String, f64>> = samples
@@ -193,13 +246,15 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
             eval.mean_metrics.insert(k.clone(), stats::mean(&column(k)));
         }
     }
-    let quantity = match study.quantity {
-        Quantity::Rop => study.statistic.apply(&column("mean_rop_m_per_h")),
-        Quantity::Efficiency => study.statistic.apply(&column("efficiency")),
+    let quantity_column = match study.quantity {
+        Quantity::Rop => column("mean_rop_m_per_h"),
+        Quantity::Efficiency => column("efficiency"),
     };
+    let risk_columns: Vec<Vec<f64>> = study.risk.iter().map(|r| column(&r.metric)).collect();
+    let quantity = study.statistic.apply(&quantity_column);
     let mut score = quantity;
-    for r in &study.risk {
-        let value = r.statistic.apply(&column(&r.metric));
+    for (r, values) in study.risk.iter().zip(&risk_columns) {
+        let value = r.statistic.apply(values);
         let penalty = r.weight * value;
         score -= penalty;
         eval.risk.push(RiskValue {
@@ -244,6 +299,10 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
     }
     if !reasons.is_empty() {
         eval.failure = Some(reasons.join("; "));
+    }
+    if let Some(i) = score_interval(study, &quantity_column, &risk_columns) {
+        eval.score_half_width = Some(i.half_width());
+        eval.score_interval = Some([i.low, i.high]);
     }
     eval.quantity = Some(quantity);
     eval.objective = Some(score);

@@ -95,6 +95,9 @@ pub(in crate::cli) fn point(study: &Study, omega_rpm: f64, v0_m_per_h: f64) -> P
         feasible,
         failure: None,
         mean_metrics: samples[0].keys().map(|k| (k.clone(), mean(k))).collect(),
+        samples_used: samples.len(),
+        score_half_width: None,
+        score_interval: None,
         samples: samples
             .into_iter()
             .enumerate()
