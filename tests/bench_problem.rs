@@ -68,8 +68,10 @@ fn the_benchmark_is_the_seed_string_with_the_issue_s_study() {
     let m_per_h = |x: f64| drillopt::units::to_m_per_h(x);
     assert!((rpm(c.omega[0]) - 40.0).abs() < 1e-9 && (rpm(c.omega[1]) - 120.0).abs() < 1e-9);
     assert!((m_per_h(c.v0[0]) - 2.0).abs() < 1e-9 && (m_per_h(c.v0[1]) - 30.0).abs() < 1e-9);
-    assert_eq!(c.chance.len(), 1);
+    assert_eq!(c.chance.len(), 2);
     assert_eq!(c.chance[0].metric, "von_mises_utilization");
+    // And one on the region where the model has a converged answer.
+    assert_eq!(c.chance[1].metric, "bit_damping_ratio");
 
     // A global method for a multimodal map, and no expected optimum: not a regression problem.
     assert!(matches!(s.optimizer, OptimizerSettings::EgoTrustRegion(_)));

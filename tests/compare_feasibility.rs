@@ -37,6 +37,27 @@ fn compare_calls_points_outside_the_constraints_infeasible() {
         serde_json::from_str(&text).unwrap()
     };
     let json = report(&["200rpm,30m/h", "30rpm,20m/h", "60rpm,5m/h"]);
+    // The terminal table says why too, at the end of each infeasible row (`--quiet` keeps the
+    // results on stdout).
+    let stdout =
+        String::from_utf8_lossy(&run(&["200rpm,30m/h", "30rpm,20m/h", "60rpm,5m/h"]).stdout)
+            .into_owned();
+    let row = |rpm: &str| {
+        stdout
+            .lines()
+            .find(|l| l.trim_start().starts_with(rpm))
+            .unwrap_or_else(|| panic!("{rpm}: {stdout}"))
+            .to_string()
+    };
+    assert!(
+        row("200.0").contains("no: ") && row("200.0").contains("outside the bounds"),
+        "{stdout}"
+    );
+    assert!(
+        row("30.0").contains("no: ") && row("30.0").contains("depth of cut"),
+        "{stdout}"
+    );
+    assert!(row("60.0").trim_end().ends_with("yes"), "{stdout}");
     let points = json["points"].as_array().unwrap();
     let verdict = |i: usize| {
         (

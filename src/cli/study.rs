@@ -191,8 +191,15 @@ pub(super) fn table_row(p: &PointEvaluation) -> String {
         .score_half_width
         .map_or_else(|| "       -".to_string(), |h| format!("±{h:7.3}"));
     let m = |k: &str| p.mean_metrics.get(k).copied().unwrap_or(f64::NAN);
+    // An infeasible or failed point says why (the chance constraint and its estimate, the bound,
+    // or the failed sample), as compare.json's `failure` does.
+    let feasible = match (&p.failure, p.feasible) {
+        (_, true) => "yes".to_string(),
+        (Some(why), false) => format!("no: {why}"),
+        (None, false) => "no".to_string(),
+    };
     format!(
-        "{:7.1} {:8.2} {} {} {:4} {:8.3} {:6.2} {:7.2} {:9.1} {:8.1} {}",
+        "{:7.1} {:8.2} {} {} {:4} {:8.3} {:6.2} {:7.2} {:9.1} {:8.1} {feasible}",
         p.omega_rpm,
         p.v0_m_per_h,
         score,
@@ -203,7 +210,6 @@ pub(super) fn table_row(p: &PointEvaluation) -> String {
         m("stick_fraction"),
         m("impacts_per_s"),
         m("mean_wob_n") / 1e3,
-        if p.feasible { "yes" } else { "no" }
     )
 }
 
