@@ -68,6 +68,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let bar = study::progress_bar(
         args.run.quiet,
         (ops.len() * problem.study.samples.max(1)) as u64,
+        problem.study.sequential.is_some(),
         "compare",
     );
     let ev = study::evaluator(&problem, Some(&cache), &bar, args.run.quiet)?;

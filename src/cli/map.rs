@@ -53,6 +53,7 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     let bar = study::progress_bar(
         args.run.quiet,
         (grid[0] * grid[1] * problem.study.samples.max(1)) as u64,
+        problem.study.sequential.is_some(),
         "map",
     );
     let ev = study::evaluator(&problem, Some(&cache), &bar, args.run.quiet)?;

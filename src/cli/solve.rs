@@ -35,7 +35,12 @@ pub fn solve_and_report(
     let cache = study::open_cache(out, resume)?;
     let settings = &problem.study.optimizer;
     let per_point = problem.study.samples.max(1) as u64;
-    let bar = study::progress_bar(quiet, settings.budget() as u64 * per_point, "solve");
+    let bar = study::progress_bar(
+        quiet,
+        settings.budget() as u64 * per_point,
+        problem.study.sequential.is_some(),
+        "solve",
+    );
     let ev = study::evaluator(problem, Some(&cache), &bar, quiet)?;
     let bar2 = bar.clone();
     let outcome = solve::solve(

@@ -113,15 +113,18 @@ pub fn open_cache(out: &Path, resume: bool) -> anyhow::Result<EvalCache> {
     Ok(EvalCache::open(&path)?)
 }
 
-pub fn progress_bar(quiet: bool, total: u64, label: &str) -> ProgressBar {
+/// The progress bar of a study command: `total` simulations, or at most `total` when
+/// `at_most` (sequential sampling stops points early, so the bar may end short of its length).
+pub fn progress_bar(quiet: bool, total: u64, at_most: bool, label: &str) -> ProgressBar {
     let bar = if quiet {
         ProgressBar::hidden()
     } else {
         ProgressBar::new(total)
     };
+    let of = if at_most { "at most " } else { "" };
     bar.set_style(
         ProgressStyle::with_template(&format!(
-            "{{spinner}} {label} [{{bar:40}}] {{pos}}/{{len}} simulations {{msg}} ({{elapsed}}, eta {{eta}})"
+            "{{spinner}} {label} [{{bar:40}}] {{pos}} of {of}{{len}} simulations {{msg}} ({{elapsed}}, eta {{eta}})"
         ))
         .expect("valid template")
         .progress_chars("=> "),
