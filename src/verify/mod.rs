@@ -448,7 +448,7 @@ pub fn verify_with(
         let (mut perturbed, mut sensitivity) = (None, None);
         for (run, m) in &results[1..] {
             let r = (d.get)(m);
-            let change = (r - value).abs() / value.abs().max(d.floor);
+            let change = relative_change(r, value, d.floor);
             if run.name == Refinement::Perturbed.name() {
                 (perturbed, sensitivity) = (Some(r), Some(change));
                 continue;
@@ -494,6 +494,16 @@ pub fn verify_with(
         refined_basis,
         runs: results.into_iter().map(|(r, _)| r).collect(),
     })
+}
+
+/// |r − value| / max(|value|, floor); 0 when the two are equal, infinities included (off bottom
+/// the MSE is +∞ in every run: no change, not ∞ − ∞ = NaN); NaN when either is NaN.
+pub fn relative_change(r: f64, value: f64, floor: f64) -> f64 {
+    if r == value {
+        0.0
+    } else {
+        (r - value).abs() / value.abs().max(floor)
+    }
 }
 
 fn run_variant(
@@ -577,6 +587,15 @@ mod tests {
         // Non-finite changes are never converged.
         assert_eq!(Verdict::of(f64::NAN, Some(0.0), 0.1), Verdict::NotConverged);
         assert_eq!(Verdict::of(0.0, Some(f64::NAN), 0.1), Verdict::Sensitive);
+    }
+
+    #[test]
+    fn equal_infinities_do_not_change() {
+        assert_eq!(relative_change(f64::INFINITY, f64::INFINITY, 1e6), 0.0);
+        assert_eq!(relative_change(1.1, 1.0, 0.1), (1.1_f64 - 1.0).abs());
+        assert_eq!(relative_change(f64::INFINITY, 1.0, 0.1), f64::INFINITY);
+        assert!(relative_change(f64::NAN, 1.0, 0.1).is_nan());
+        assert!(relative_change(f64::NAN, f64::NAN, 0.1).is_nan());
     }
 
     #[test]
