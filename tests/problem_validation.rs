@@ -899,6 +899,12 @@ fn basis_per_family_is_read_and_checked() {
         "mesh.basis.torsional",
         &["Hz"],
     );
+    // A quantity of another kind: the message says what the key takes.
+    refused(
+        &with_basis("20", "\"60 kN\"", ""),
+        "mesh.basis.torsional",
+        &["mode count", "cutoff frequency", "got \"60 kN\""],
+    );
     refused(
         &with_basis("20", "\"1e6 Hz\"", ""),
         "mesh.basis.torsional",

@@ -770,7 +770,15 @@ fn family_size(
                     ),
                 ));
             }
-            let hz = c.value(key, raw, Dimension::Frequency)?;
+            // "60 kN" is neither: say what the key takes, not only that the unit is wrong.
+            let hz = Dimension::Frequency.parse(text).map_err(|_| {
+                c.fail(
+                    key,
+                    format!(
+                        "must be a mode count (an integer in [1, {elements}], without quotes) or a cutoff frequency with its unit such as \"60 Hz\", got \"{text}\""
+                    ),
+                )
+            })?;
             c.check(
                 key,
                 hz,
