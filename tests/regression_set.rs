@@ -3,8 +3,11 @@
 //! holding its optimum (`active`, validated against the expected ranges); one optimum strictly
 //! inside the Ω bounds; one held by a physical limit (a chance constraint) with the V0 bound and the
 //! depth-of-cut line not the ones that stop it; each expected range at least one cell of the map it
-//! names wide. The buckling-limited optima are checked against Dawson & Paslay's closed form, and
-//! `solve` is run on one cheap problem and must land in its map's ranges.
+//! names wide; one held by a damage limit other than buckling (stress, fatigue, stick-slip or
+//! impacts). The buckling-limited optima are checked against Dawson & Paslay's closed form, the
+//! fatigue-limited one against Miner's rule for the rotating bending stress (one cycle per
+//! revolution), and `solve` must land in its map's ranges on the buckling- and fatigue-limited
+//! problems.
 
 use drillopt::problem::Problem;
 use drillopt::problem::study::{ActiveConstraint, Expect};
@@ -58,6 +61,7 @@ fn the_set_has_an_interior_omega_optimum_and_one_held_by_a_physical_limit() {
     assert!(set.len() >= 3, "at least three problems, got {}", set.len());
     let mut interior = Vec::new();
     let mut physical = Vec::new();
+    let mut damage = Vec::new();
     for (f, p, e) in &set {
         let k = p.study.constraints.as_ref().unwrap();
         let act = active(f, e);
@@ -76,6 +80,11 @@ fn the_set_has_an_interior_omega_optimum_and_one_held_by_a_physical_limit() {
         let chance = act.iter().any(|a| matches!(a, ActiveConstraint::Chance(_)));
         if chance && !act.contains(&ActiveConstraint::V0Max) && e.v0[1] < k.v0[1] {
             physical.push(p.name.clone());
+        }
+        if act.iter().any(
+            |a| matches!(a, ActiveConstraint::Chance(m) if DAMAGE_METRICS.contains(&m.as_str())),
+        ) {
+            damage.push(p.name.clone());
         }
         // Each range is at least one cell of its map wide (the map is finer than the tolerance).
         let [n, m] = map_grid(f);
@@ -102,7 +111,22 @@ fn the_set_has_an_interior_omega_optimum_and_one_held_by_a_physical_limit() {
         !physical.is_empty(),
         "no optimum held by a chance constraint below the V0 bound"
     );
+    assert!(
+        !damage.is_empty(),
+        "no optimum held by a stress, fatigue, stick-slip or impact limit (one of {DAMAGE_METRICS:?})"
+    );
 }
+
+/// The damage metrics of issue 14 item 7 (buckling aside): stress, fatigue, stick-slip, impacts.
+const DAMAGE_METRICS: [&str; 7] = [
+    "max_von_mises_pa",
+    "von_mises_utilization",
+    "fatigue_damage_per_h",
+    "stick_slip_severity",
+    "stick_fraction",
+    "impacts_per_s",
+    "peak_wall_force_n",
+];
 
 /// Dawson & Paslay's sinusoidal buckling load of a pipe lying in a horizontal hole,
 /// F_sin = 2 √(E I w / r), w the buoyed weight per length, r the radial clearance (N).
@@ -152,12 +176,10 @@ fn buckling_limited_optima_lie_below_the_closed_form_buckling_feed() {
     }
 }
 
-/// `drillopt solve` on the cheapest physics-decided problem lands in the ranges its map gave
-/// (`drillopt batch problems` in CI checks every problem of the set the same way).
-#[test]
-fn solve_reaches_the_maps_optimum_of_the_buckling_limited_problem() {
-    let file = Path::new(DIR).join("slim_pipe_buckling.toml");
-    let e = Problem::load(&file).unwrap().study.expect.unwrap();
+/// `drillopt solve` on `file` lands in the ranges its map gave, with every chance constraint
+/// satisfied (`drillopt batch problems` in CI checks every problem of the set the same way).
+fn solve_lands_in_the_expected_ranges(file: &Path) -> serde_json::Value {
+    let e = Problem::load(file).unwrap().study.expect.unwrap();
     let dir = tempfile::tempdir().unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
         .args(["solve", file.to_str().unwrap(), "--quiet", "--out"])
@@ -176,14 +198,146 @@ fn solve_reaches_the_maps_optimum_of_the_buckling_limited_problem() {
     let score = s["objective"]["score"].as_f64().unwrap();
     assert!(
         (e.omega[0]..=e.omega[1]).contains(&omega),
-        "Ω {} rpm",
+        "{}: Ω {} rpm",
+        file.display(),
         omega * 30.0 / PI
     );
-    assert!((e.v0[0]..=e.v0[1]).contains(&v0), "V0 {} m/h", v0 * 3600.0);
+    assert!(
+        (e.v0[0]..=e.v0[1]).contains(&v0),
+        "{}: V0 {} m/h",
+        file.display(),
+        v0 * 3600.0
+    );
     let [lo, hi] = e.objective.unwrap();
-    assert!((lo..=hi).contains(&score), "score {score}");
-    // The limit holds the optimum: feasible, and within a map cell of where it bites.
-    assert_eq!(s["constraints"]["chance"][0]["satisfied"], true);
+    assert!(
+        (lo..=hi).contains(&score),
+        "{}: score {score}",
+        file.display()
+    );
+    // The limits hold the optimum: feasible.
+    for c in s["constraints"]["chance"].as_array().unwrap() {
+        assert_eq!(c["satisfied"], true, "{}: {c}", file.display());
+    }
+    s
+}
+
+#[test]
+fn solve_reaches_the_maps_optimum_of_the_buckling_limited_problem() {
+    solve_lands_in_the_expected_ranges(&Path::new(DIR).join("slim_pipe_buckling.toml"));
+}
+
+#[test]
+fn solve_reaches_the_maps_optimum_of_the_fatigue_limited_problem() {
+    let s = solve_lands_in_the_expected_ranges(&Path::new(DIR).join("slim_pipe_fatigue.toml"));
+    let line = s["constraints"]["linear"].as_array().unwrap();
+    assert!(
+        line.iter()
+            .any(|c| c["label"] == "max_depth_of_cut" && c["active"] == true),
+        "{line:?}"
+    );
+}
+
+/// DNV-RP-C203 (2016) Table 2-1, S-N curves in air for N ≤ 10⁷: (name, m₁, log₁₀ ā₁), Δσ in MPa.
+/// Typed here from the standard, independently of `fatigue::SnCurve`.
+const DNV_AIR_FIRST_BRANCH: [(&str, f64, f64); 3] = [
+    ("DNV-B1", 4.0, 15.117),
+    ("DNV-C", 3.0, 12.592),
+    ("DNV-D", 3.0, 12.164),
+];
+
+/// One `drillopt simulate` at (Ω, V0); the worst section of `stress_envelope.csv` as
+/// (fatigue damage per hour, its largest bending moment in N·m).
+fn worst_section(file: &Path, omega_rpm: f64, v0_m_per_h: f64) -> (f64, f64) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(["simulate", file.to_str().unwrap(), "--quiet"])
+        .arg(format!("--omega={omega_rpm}rpm"))
+        .arg(format!("--v0={v0_m_per_h}m/h"))
+        .arg("--out")
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.path().join("stress_envelope.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (cd, cm) = (col("fatigue_damage_per_h"), col("max_bending_moment_N_m"));
+    lines
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+            (v[cd], v[cm])
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap()
+}
+
+/// The fatigue-limited optimum is where the rotating bending stress of the worst section uses up
+/// the allowed damage rate: a material point of the spinning pipe sees one cycle of range
+/// Δσ = 2·SCF·M·c/I per revolution, so D = (Ω/2π · 3600 s/h) · Δσ^m / ā (Miner, constant
+/// amplitude) should match the rainflow count of the simulation, and the threshold should be
+/// crossed inside the expected V0 range along the depth-of-cut line.
+#[test]
+fn fatigue_limited_optimum_is_the_rotating_bending_damage_reaching_its_limit() {
+    let mut checked = 0;
+    for (f, p, e) in set() {
+        if !active(&f, &e).contains(&ActiveConstraint::Chance("fatigue_damage_per_h".into())) {
+            continue;
+        }
+        let text = std::fs::read_to_string(&f).unwrap();
+        let doc: toml::Table = text.parse().unwrap();
+        let fatigue = doc["model"]["pipe"]["fatigue"].as_table().unwrap();
+        let curve = fatigue["sn_curve"].as_str().unwrap();
+        let scf = fatigue["stress_concentration"].as_integer().unwrap() as f64;
+        let (_, m, log_a) = DNV_AIR_FIRST_BRANCH
+            .iter()
+            .find(|c| c.0 == curve)
+            .unwrap_or_else(|| panic!("{}: curve {curve} not in the test's table", f.display()));
+        let k = p.study.constraints.as_ref().unwrap();
+        let threshold = k
+            .chance
+            .iter()
+            .find(|c| c.metric == "fatigue_damage_per_h")
+            .unwrap()
+            .threshold;
+        let (ro, ri) = (p.model.pipe.outer_radius, p.model.pipe.inner_radius);
+        let c_over_i = ro / (PI / 4.0 * (ro.powi(4) - ri.powi(4)));
+        // Along the depth-of-cut line Ω = 2π V0 / δ (−δ Ω + 2π V0 ≤ 0): below the range, above it.
+        let line = k
+            .linear
+            .iter()
+            .find(|c| c.label == "max_depth_of_cut")
+            .unwrap_or_else(|| panic!("{}: a depth-of-cut line expected", f.display()));
+        let depth = -line.omega * 2.0 * PI / line.v0;
+        let mut damage = Vec::new();
+        for v0 in e.v0 {
+            let omega = 2.0 * PI * v0 / depth;
+            let rpm = omega * 30.0 / PI * 1.0001;
+            let (d, moment) = worst_section(&f, rpm, v0 * 3600.0);
+            let range_mpa = 2.0 * scf * moment * c_over_i / 1e6;
+            let per_hour = omega / (2.0 * PI) * 3600.0;
+            let closed = per_hour * range_mpa.powf(*m) / 10f64.powf(*log_a);
+            assert!(
+                (d / closed - 1.0).abs() < 0.15,
+                "{}: at {rpm:.1} rpm, {:.2} m/h the simulated damage {d:.4}/h vs Miner's {closed:.4}/h \
+                 (M = {moment:.0} N·m, Δσ = {range_mpa:.0} MPa)",
+                f.display(),
+                v0 * 3600.0
+            );
+            damage.push(d);
+        }
+        assert!(
+            damage[0] < threshold && threshold < damage[1],
+            "{}: the limit {threshold}/h is not crossed inside the expected V0 range: {damage:?}",
+            f.display()
+        );
+        checked += 1;
+    }
+    assert!(checked >= 1, "no fatigue-limited problem in the set");
 }
 
 /// `[expect] active` is refused, naming the file and the key, when it names no constraint of the
