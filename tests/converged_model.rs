@@ -124,6 +124,14 @@ fn verify_reports_verdicts_that_follow_from_its_numbers() {
         );
         assert!(refined >= 1.5 * base, "{family}: {base} → {refined}");
     }
+    let window = r["window_s"].as_f64().unwrap();
+    assert!(
+        (window - 0.5).abs() < 1e-12,
+        "1 s less the 0.5 s settling: {window}"
+    );
+    // Ω = 60 rpm: one revolution per second.
+    let revolutions = r["window_revolutions"].as_f64().unwrap();
+    assert!((revolutions - 0.5).abs() < 1e-12, "{revolutions}");
     let metrics = r["metrics"].as_object().unwrap();
     // The tiny string decides on no stress metric: the core decision metrics only.
     assert_eq!(metrics.len(), drillopt::verify::DECISION_METRICS.len());
@@ -178,15 +186,29 @@ fn verify_ends_with_a_verdict_in_the_terminal_units() {
         "--quiet",
     ]);
     assert!(!stderr.contains("error"), "{stderr}");
+    // 0.5 s of window at 60 rpm: half a revolution, which the user is warned of.
+    assert!(
+        stderr.contains("warning: the analysis window (0.500 s) holds 0.500 revolutions"),
+        "{stderr}"
+    );
+    assert!(stdout.contains("0.50 revolutions"), "{stdout}");
     let last = stdout.lines().last().unwrap();
     if ok {
         assert!(last.starts_with("verdict: converged"), "{stdout}");
     } else {
-        assert!(last.starts_with("verdict: NOT converged ("), "{stdout}");
-        assert!(
-            (last.contains(" % > ") && last.contains("refinement")) || last.contains("sensitive: "),
-            "{last}"
-        );
+        // Truncation first; a verdict that only the 1e-4 perturbation moved says "sensitive".
+        if last.starts_with("verdict: NOT converged (") {
+            assert!(
+                last.contains(" % > ") && last.contains("refinement"),
+                "{last}"
+            );
+        } else {
+            assert!(
+                last.starts_with("verdict: sensitive (sensitive: "),
+                "{stdout}"
+            );
+            assert!(!last.contains("refinement"), "{last}");
+        }
     }
     let row = |key: &str| {
         stdout

@@ -37,11 +37,16 @@ pub struct VerifyArgs {
     /// so use it with a window of seconds (`--duration`).
     #[arg(long)]
     pub unreduced: bool,
+    /// Threads that run the six (seven with --unreduced) runs [default: every core, or
+    /// RAYON_NUM_THREADS]; an integer in [1, 1024]. The results do not depend on it.
+    #[arg(long, value_name = "N", value_parser = super::whole_number)]
+    pub threads: Option<usize>,
 }
 
 /// Verify, print the table (or JSON) and the verdict; a model not converged is a negative
 /// verdict (exit status 1), not an error.
 pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
+    super::study::start_threads(args.threads)?;
     let problem = Problem::load(&args.problem)?;
     let (op, duration) = point_and_duration(&problem, &args.point)?;
     let settings = VerifySettings {
@@ -83,6 +88,19 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
         other => anyhow::Error::new(other),
     })
     .with_context(|| format!("verify {}", args.problem.display()))?;
+    if report.window_revolutions < 1.0 {
+        // A caution, not a verdict: printed even with --quiet.
+        eprintln!(
+            "warning: the analysis window ({:.3} s) holds {:.3} revolutions of the top drive at \
+             {:.1} rpm: fatigue counts one bending cycle per revolution and a stick-slip cycle \
+             lasts several, so the metrics of so short a window say little, whatever the \
+             verdict; use --duration {:.3} or more for one revolution",
+            report.window_s,
+            report.window_revolutions,
+            op.omega * 60.0 / (2.0 * PI),
+            settings.settling + 2.0 * PI / op.omega
+        );
+    }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
@@ -105,7 +123,8 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
 
 /// "verdict: converged (every decision metric within its limit)", or "verdict: NOT converged
 /// (stick_fraction changed 12.3 % > 10 % under the basis refinement; …)", each metric whose
-/// perturbed run moved it beyond its limit named as sensitive.
+/// perturbed run moved it beyond its limit named as sensitive; "verdict: sensitive (sensitive:
+/// …)" when no refinement but only the perturbation moved a metric beyond its limit.
 fn verdict(r: &VerifyReport) -> String {
     if r.converged {
         return "verdict: converged (every decision metric within its limit)".to_string();
@@ -139,7 +158,17 @@ fn verdict(r: &VerifyReport) -> String {
             sensitive.join(", ")
         ));
     }
-    format!("verdict: NOT converged ({})", why.join("; "))
+    // Truncation (a refinement beyond its limit) is the stronger finding; without it, the
+    // window itself does not determine the sensitive metrics.
+    let truncated = r
+        .metrics
+        .values()
+        .any(|v| v.verdict == Verdict::NotConverged);
+    if truncated {
+        format!("verdict: NOT converged ({})", why.join("; "))
+    } else {
+        format!("verdict: sensitive ({})", why.join("; "))
+    }
 }
 
 /// Six significant digits, in exponent form outside [1e-3, 1e6).
@@ -154,9 +183,10 @@ pub(super) fn significant(x: f64) -> String {
 
 fn print_table(r: &VerifyReport, s: &VerifySettings, refinements: &[Refinement]) {
     println!(
-        "analysis window {:.3}–{:.3} s (the window refinement: to {:.3} s)\nbasis {}\nrefined basis {}\nbit_damping_ratio {:.3} (the bit's negative damping / the pipe's torsional impedance{})",
+        "analysis window {:.3}–{:.3} s, {:.2} revolutions (the window refinement: to {:.3} s)\nbasis {}\nrefined basis {}\nbit_damping_ratio {:.3} (the bit's negative damping / the pipe's torsional impedance{})",
         s.settling,
         s.duration,
+        r.window_revolutions,
         2.0 * s.duration - s.settling,
         r.basis,
         r.refined_basis,

@@ -328,6 +328,12 @@ pub struct VerifyReport {
     /// [`crate::model::bit_damping_ratio`] at the operating point: above 1 the stick-slip
     /// statistics are set by the shortest torsional waves the basis holds and do not converge.
     pub bit_damping_ratio: f64,
+    /// Length of the base run's analysis window (duration − settling), s.
+    pub window_s: f64,
+    /// Revolutions of the top drive in the analysis window, Ω·window/2π: fatigue counts one
+    /// bending cycle per revolution and a stick-slip cycle is as long as a few revolutions, so
+    /// below 1 the metrics of the window say little, whatever the verdict (the CLI warns).
+    pub window_revolutions: f64,
     pub converged: bool,
     pub basis: BasisCounts,
     pub refined_basis: BasisCounts,
@@ -488,6 +494,8 @@ pub fn verify_with(
         .map_or(base_run.basis, |(r, _)| r.basis);
     Ok(VerifyReport {
         bit_damping_ratio: crate::model::bit_damping_ratio(&problem.model, settings.op),
+        window_s: window,
+        window_revolutions: settings.op.omega * window / (2.0 * std::f64::consts::PI),
         converged: verdicts.values().all(|v| v.converged),
         metrics: verdicts,
         basis: base_run.basis,
