@@ -217,6 +217,18 @@ fn solve_lands_in_the_expected_ranges(file: &Path) -> serde_json::Value {
     // The limits hold the optimum: feasible.
     for c in s["constraints"]["chance"].as_array().unwrap() {
         assert_eq!(c["satisfied"], true, "{}: {c}", file.display());
+        let metric = c["metric"].as_str().unwrap();
+        let checked = &s["numerical_check"]["metrics"][metric];
+        assert_eq!(checked["used"], true, "{}: {metric}", file.display());
+    }
+    // The optimum rests on numbers the basis check found converged (the unused stick-slip
+    // statistics of the slim strings are not: they are reported, not used).
+    let check = &s["numerical_check"];
+    assert_eq!(check["converged"], true, "{}: {check}", file.display());
+    for (key, m) in check["metrics"].as_object().unwrap() {
+        if m["used"] == true {
+            assert_eq!(m["converged"], true, "{}: {key}", file.display());
+        }
     }
     s
 }

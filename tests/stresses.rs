@@ -86,6 +86,8 @@ fn steady_drilling_stresses_match_the_closed_form_along_the_whole_string() {
 fn yield_strength_is_a_pressure_or_an_api_grade() {
     let p = weightless_undamped_seed("yield_strength = \"g-105\"");
     assert!((p.model.pipe.yield_strength.unwrap() - 105.0 * 6.894757293168e6).abs() < 1e-3);
+    let p = weightless_undamped_seed("yield_strength = \"G105\"");
+    assert!((p.model.pipe.yield_strength.unwrap() - 105.0 * 6.894757293168e6).abs() < 1e-3);
     let p = weightless_undamped_seed("yield_strength = \"800 MPa\"");
     assert_eq!(p.model.pipe.yield_strength, Some(800e6));
     let text = std::fs::read_to_string(common::SEED)
@@ -126,4 +128,67 @@ fn verify_checks_the_stress_when_the_problem_decides_on_it() {
         + "\n[objective]\n[[objective.risk]]\nmetric = \"von_mises_utilization\"\nweight = 1.0\n";
     let p = Problem::from_toml(&text, Path::new("stress.toml")).unwrap();
     assert!(keys(&p).contains(&"max_von_mises_pa"));
+}
+
+/// `simulate` prints the safety factor beside the peak stress when the problem gives a yield
+/// strength, and warns on stderr when the stress reaches it.
+#[test]
+fn simulate_shows_the_safety_factor_and_warns_at_yield() {
+    let tiny = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/regression/tiny_string.toml"
+    ))
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let run = |yield_strength: &str| {
+        let file = dir.path().join(format!("y{}.toml", yield_strength.len()));
+        let text = tiny.replace(
+            "[model.pipe]",
+            &format!("[model.pipe]\nyield_strength = \"{yield_strength}\""),
+        );
+        std::fs::write(&file, text).unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+            .args([
+                "simulate",
+                file.to_str().unwrap(),
+                "--quiet",
+                "--duration",
+                "1",
+            ])
+            .arg("--out")
+            .arg(dir.path().join("out"))
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        let stdout = String::from_utf8(out.stdout).unwrap();
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        let summary: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.path().join("out/summary.json")).unwrap(),
+        )
+        .unwrap();
+        let sf = summary["metrics"]["von_mises_safety_factor"]
+            .as_f64()
+            .unwrap();
+        (stdout, stderr, sf)
+    };
+    // S-135 (930.8 MPa): far from yield, the factor shown, no warning.
+    let (stdout, stderr, sf) = run("S-135");
+    assert!(sf > 1.0, "{sf}");
+    assert!(
+        stdout.contains(&format!("(safety factor {sf:.2})")),
+        "{stdout}"
+    );
+    assert!(!stderr.contains("yield strength"), "{stderr}");
+    // 1 MPa: the peak stress (tens of MPa) is beyond it.
+    let (stdout, stderr, sf) = run("1 MPa");
+    assert!(sf < 1.0, "{sf}");
+    assert!(
+        stdout.contains(&format!("(safety factor {sf:.2})")),
+        "{stdout}"
+    );
+    assert!(
+        stderr.contains("warning: the peak von Mises stress")
+            && stderr.contains("reaches the yield strength"),
+        "{stderr}"
+    );
 }

@@ -386,6 +386,9 @@ fn print_summary(s: &SummaryJson, out: &Path) {
             m.energy_balance_residual
         );
         println!("  {}", integrity_line(m));
+        if let Some(w) = yield_warning(m) {
+            eprintln!("{w}");
+        }
         if m.bit_damping_ratio > 1.0 {
             eprintln!(
                 "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1): the bit feeds torsional waves faster than the string carries them away, and the stick-slip statistics depend on the shortest torsional waves the basis holds: expect `drillopt verify` to find them not converged",
@@ -423,11 +426,32 @@ fn integrity_line(m: &crate::metrics::Metrics) -> String {
     } else {
         "fatigue: not computed".to_string()
     };
+    // With a yield strength, the safety factor beside the stress.
+    let safety = if m.von_mises_safety_factor.is_finite() {
+        format!(" (safety factor {:.2})", m.von_mises_safety_factor)
+    } else {
+        String::new()
+    };
     format!(
-        "von Mises {:.1} MPa at {:.2} m | {fatigue} | compression {:.1} % of sinusoidal buckling at {:.2} m",
+        "von Mises {:.1} MPa at {:.2} m{safety} | {fatigue} | compression {:.1} % of sinusoidal buckling at {:.2} m",
         m.max_von_mises_pa / 1e6,
         m.max_von_mises_at_m,
         100.0 * m.buckling_utilization,
         m.buckling_at_m
     )
+}
+
+/// A warning when the peak von Mises stress reaches the yield strength (`von_mises_utilization`
+/// ≥ 1); none without a yield strength.
+fn yield_warning(m: &crate::metrics::Metrics) -> Option<String> {
+    (m.von_mises_utilization >= 1.0).then(|| {
+        format!(
+            "warning: the peak von Mises stress, {:.1} MPa at {:.2} m, reaches the yield strength \
+             (model.pipe.yield_strength; von_mises_utilization {:.3}): the string yields there, \
+             beyond what this elastic model describes",
+            m.max_von_mises_pa / 1e6,
+            m.max_von_mises_at_m,
+            m.von_mises_utilization
+        )
+    })
 }

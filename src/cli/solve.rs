@@ -130,31 +130,43 @@ fn print_summary(
 }
 
 fn print_check(c: &NumericalCheck) {
-    println!(
-        "numerical check at the optimum (nominal parameters; basis {} → {}): {}",
-        c.basis,
-        c.refined_basis,
-        if c.converged {
-            "converged"
-        } else {
-            "NOT converged"
+    let unused_moved: Vec<&str> = c
+        .metrics
+        .iter()
+        .filter(|(_, m)| !m.used && !m.converged)
+        .map(|(k, _)| *k)
+        .collect();
+    let verdict = match (c.converged, unused_moved.is_empty()) {
+        (true, true) => "converged".to_string(),
+        (true, false) => format!(
+            "converged on every metric this problem uses (not converged, and not used by its \
+             score or constraints: {})",
+            unused_moved.join(", ")
+        ),
+        (false, _) => {
+            "NOT converged (a metric this problem uses moved beyond its limit)".to_string()
         }
+    };
+    println!(
+        "numerical check at the optimum (nominal parameters; basis {} → {}): {verdict}",
+        c.basis, c.refined_basis,
     );
     println!(
-        "  {:<22} {:>7} {:>12} {:>12} {:>9} {:>6} {:>14}",
-        "metric", "unit", "nominal", "refined", "change", "limit", "sample std dev"
+        "  {:<22} {:>7} {:>12} {:>12} {:>9} {:>6} {:>5} {:>14}",
+        "metric", "unit", "nominal", "refined", "change", "limit", "used", "sample std dev"
     );
     for (key, m) in &c.metrics {
         // In the driller's units of the rest of the terminal (kN, kN·m, MPa, m/h, %).
         let d = crate::report::MetricDisplay::of(key);
         let show = |si: f64| super::verify::significant(d.value(si));
         println!(
-            "  {key:<22} {:>7} {:>12} {:>12} {:>8.2}% {:>5.0}% {:>14}",
+            "  {key:<22} {:>7} {:>12} {:>12} {:>8.2}% {:>5.0}% {:>5} {:>14}",
             d.unit,
             show(m.value),
             show(m.refined_basis),
             100.0 * m.rel_change,
             100.0 * m.limit,
+            if m.used { "yes" } else { "no" },
             m.sample_std_dev.map_or("n/a (1 sample)".to_string(), show)
         );
     }

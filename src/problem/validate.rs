@@ -663,7 +663,11 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
         Some(RawQuantity::Text(t)) if t.chars().next().is_some_and(char::is_alphabetic) => {
             let grade = crate::model::API_GRADES
                 .iter()
-                .find(|(name, _)| name.eq_ignore_ascii_case(t.trim()));
+                // "G-105", "g-105" or "G105": case and the dash do not matter.
+                .find(|(name, _)| {
+                    name.replace('-', "")
+                        .eq_ignore_ascii_case(&t.trim().replace('-', ""))
+                });
             Some(grade.map(|g| g.1).ok_or_else(|| {
                 let names: Vec<&str> = crate::model::API_GRADES.iter().map(|g| g.0).collect();
                 c.fail(

@@ -5,7 +5,7 @@
 use crate::problem::Problem;
 use crate::study::PointEvaluation;
 use serde::Serialize;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// One decision metric at the optimum: the numerical change under basis refinement (nominal
 /// parameters) against the statistical spread over the Monte Carlo samples.
@@ -19,6 +19,8 @@ pub struct CheckedMetric {
     pub rel_change: f64,
     pub limit: f64,
     pub converged: bool,
+    /// Whether the problem's score or constraints use the metric ([`metrics_used`]).
+    pub used: bool,
     /// Standard deviation of the metric over the samples at the optimum (none with one sample).
     pub sample_std_dev: Option<f64>,
 }
@@ -28,8 +30,42 @@ pub struct CheckedMetric {
 pub struct NumericalCheck {
     pub basis: crate::rom::BasisCounts,
     pub refined_basis: crate::rom::BasisCounts,
+    /// Every metric the problem uses ([`CheckedMetric::used`]) is converged: the optimum rests
+    /// on converged numbers.
     pub converged: bool,
+    /// Every decision metric is converged, used or not.
+    pub all_converged: bool,
     pub metrics: BTreeMap<&'static str, CheckedMetric>,
+}
+
+/// The metric keys the problem's score and constraints depend on: the objective's quantity
+/// (`mean_rop_m_per_h`; efficiency and MSE bring the WOB, TOB and ROP they are computed from,
+/// MSE = WOB/A + 2π N·TOB/(A·ROP), Teale 1965), every risk term's and every chance constraint's
+/// metric.
+pub fn metrics_used(problem: &Problem) -> BTreeSet<String> {
+    use crate::problem::study::Quantity;
+    let study = &problem.study;
+    let mut used = BTreeSet::new();
+    let mechanics = ["mean_rop_m_per_h", "mean_wob_n", "mean_tob_nm"];
+    match study.quantity {
+        Quantity::Rop => {
+            used.insert("mean_rop_m_per_h".to_string());
+        }
+        Quantity::Efficiency => used.extend(mechanics.map(String::from)),
+    }
+    let named = study.risk.iter().map(|r| r.metric.as_str()).chain(
+        study
+            .constraints
+            .iter()
+            .flat_map(|k| k.chance.iter().map(|c| c.metric.as_str())),
+    );
+    for m in named {
+        if matches!(m, "mse_pa" | "efficiency") {
+            used.extend(mechanics.map(String::from));
+        }
+        used.insert(m.to_string());
+    }
+    used
 }
 
 /// Run the basis check of `verify` at the optimum and set it beside the sample spread.
@@ -63,7 +99,8 @@ pub fn numerical_check(
         let mean = values.iter().sum::<f64>() / n;
         Some((values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt())
     };
-    let metrics = report
+    let used = metrics_used(problem);
+    let metrics: BTreeMap<&'static str, CheckedMetric> = report
         .metrics
         .iter()
         .map(|(&key, v)| {
@@ -75,6 +112,7 @@ pub fn numerical_check(
                     rel_change: v.max_rel_change,
                     limit: v.limit,
                     converged: v.converged,
+                    used: used.contains(key),
                     sample_std_dev: spread(key),
                 },
             )
@@ -83,7 +121,46 @@ pub fn numerical_check(
     Ok(NumericalCheck {
         basis: report.basis,
         refined_basis: report.refined_basis,
-        converged: report.converged,
+        converged: metrics.values().all(|m| m.converged || !m.used),
+        all_converged: report.converged,
         metrics,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn used(file: &str) -> BTreeSet<String> {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+        metrics_used(&Problem::load(&path).unwrap())
+    }
+
+    #[test]
+    fn the_metrics_used_are_those_of_the_score_and_the_constraints() {
+        // ROP − 5·SSI − 1e-8·MSE: the SSI, and the WOB, TOB and ROP the MSE is made of.
+        let tiny = used("problems/regression/tiny_string.toml");
+        for key in [
+            "mean_rop_m_per_h",
+            "stick_slip_severity",
+            "mse_pa",
+            "mean_wob_n",
+            "mean_tob_nm",
+        ] {
+            assert!(tiny.contains(key), "{key}: {tiny:?}");
+        }
+        for key in [
+            "stick_fraction",
+            "max_bit_speed_ratio",
+            "fatigue_damage_per_h",
+        ] {
+            assert!(!tiny.contains(key), "{key}: {tiny:?}");
+        }
+        // ROP − 1e-8·MSE with fatigue and buckling chance constraints: no stick-slip statistic.
+        let fatigue = used("problems/regression/slim_pipe_fatigue.toml");
+        for key in ["fatigue_damage_per_h", "buckling_utilization", "mse_pa"] {
+            assert!(fatigue.contains(key), "{key}: {fatigue:?}");
+        }
+        assert!(!fatigue.contains("stick_slip_severity"), "{fatigue:?}");
+    }
 }
