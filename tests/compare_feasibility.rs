@@ -97,3 +97,48 @@ fn compare_calls_points_outside_the_constraints_infeasible() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no unit"));
 }
+
+/// A point that violates a chance constraint says which one, with its probability.
+#[test]
+fn compare_names_the_violated_chance_constraint() {
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/regression/tiny_string.toml"
+    ))
+    .unwrap();
+    // A buckling utilization above 1 % at any WOB of tens of kN: violated everywhere.
+    let text = tiny.replace(
+        "[optimizer]",
+        "[[constraints.chance]]\nmetric = \"buckling_utilization\"\nthreshold = 0.01\nmax_probability = 0.1\n\n[optimizer]",
+    );
+    let file = dir.path().join("chance.toml");
+    std::fs::write(&file, text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args([
+            "compare",
+            file.to_str().unwrap(),
+            "--quiet",
+            "--point",
+            "60rpm,5m/h",
+            "--out",
+        ])
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("no: chance constraint P(buckling_utilization > 0.01) = 1 > 0.1"),
+        "{stdout}"
+    );
+    let json: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("out/compare.json")).unwrap(),
+    )
+    .unwrap();
+    let why = json["points"][0]["failure"].as_str().unwrap();
+    assert!(
+        why.contains("P(buckling_utilization > 0.01) = 1 > 0.1"),
+        "{why}"
+    );
+}

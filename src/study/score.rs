@@ -280,10 +280,18 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
             });
         }
     }
-    let mut reasons = Vec::new();
-    if !feasible {
-        reasons.push("a chance constraint is violated".to_string());
-    }
+    // Each violated chance constraint by name: "P(fatigue_damage_per_h > 0.05) = 1 > 0.1".
+    let mut reasons: Vec<String> = eval
+        .chance
+        .iter()
+        .filter(|c| !c.satisfied)
+        .map(|c| {
+            format!(
+                "chance constraint P({} > {}) = {} > {}",
+                c.metric, c.threshold, c.probability, c.max_probability
+            )
+        })
+        .collect();
     if let Some(k) = &study.constraints {
         let violated = deterministic_violations(k, op);
         feasible &= violated.is_empty();
