@@ -341,3 +341,24 @@ fn an_explore_basis_that_is_not_smaller_is_refused_before_anything_runs() {
         0
     );
 }
+
+/// Without `[optimizer.explore]`: one fidelity, every evaluation `full`, no explore record.
+#[test]
+fn without_an_explore_section_every_evaluation_is_full_fidelity() {
+    let mut p = tiny_with("");
+    p.study.override_budget(4).unwrap();
+    let ev = RobustEvaluator::new(&p, None).unwrap();
+    let outcome = drillopt::solve::solve(&p, &ev, None).unwrap();
+    assert!(outcome.confirmation.is_none());
+    let work = drillopt::report::WorkJson::of_fidelities(&ev, None, 0.0);
+    let json = drillopt::report::SolutionJson::of(&p, Path::new("mf.toml"), &outcome, work, None);
+    let s = serde_json::to_value(&json).unwrap();
+    assert_eq!(s["explore"], Value::Null);
+    assert_eq!(s["confirmation"], Value::Null);
+    assert!(s["work"].get("by_fidelity").is_none());
+    assert_eq!(s["objective"]["fidelity"], "full");
+    assert_eq!(s["objective"]["explore_score"], Value::Null);
+    let evals = s["evaluations"].as_array().unwrap();
+    assert_eq!(evals.len(), 4);
+    assert!(evals.iter().all(|e| e["fidelity"] == "full"));
+}
