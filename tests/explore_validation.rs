@@ -202,6 +202,62 @@ fn confirm_is_checked_against_its_range() {
 }
 
 #[test]
+fn refine_is_a_trust_region_budget_in_range() {
+    let p = load("[optimizer.explore]\nduration = 1.0\nrefine = 6\n").unwrap();
+    assert_eq!(p.study.explore.unwrap().refine, 6);
+    assert_eq!(
+        load("[optimizer.explore]\nduration = 1.0\n")
+            .unwrap()
+            .study
+            .explore
+            .unwrap()
+            .refine,
+        0,
+        "no refinement by default"
+    );
+    for bad in ["1001", "-1"] {
+        let e = error(&format!(
+            "[optimizer.explore]\nduration = 1.0\nrefine = {bad}\n"
+        ));
+        assert_names(
+            &e,
+            &[
+                "explore.toml",
+                "optimizer.explore.refine",
+                "[0, 1000]",
+                &format!("got {bad}"),
+            ],
+        );
+    }
+    // A method without a trust region has no radii to refine with.
+    let grid = base()
+        .replace("method = \"trust_region\"", "method = \"grid\"")
+        .lines()
+        .filter(|l| !l.starts_with("start = ") && !l.starts_with("max_evaluations"))
+        .map(|l| format!("{l}\n"))
+        .collect::<String>();
+    let text = grid.clone() + "[optimizer.explore]\nduration = 1.0\nrefine = 4\n";
+    let e = Problem::from_toml(&text, Path::new("explore.toml"))
+        .unwrap_err()
+        .to_string();
+    assert_names(
+        &e,
+        &[
+            "optimizer.explore.refine",
+            "\"trust_region\" or \"ego+trust_region\"",
+            "not \"grid\"",
+        ],
+    );
+    assert!(
+        Problem::from_toml(
+            &(grid + "[optimizer.explore]\nduration = 1.0\nrefine = 0\n"),
+            Path::new("explore.toml")
+        )
+        .is_ok()
+    );
+}
+
+#[test]
 fn an_explore_basis_must_be_smaller_than_the_full_one() {
     let basis = |b: &str| error(&format!("[optimizer.explore.basis]\n{b}\n"));
     let e = basis("bending = 6\ntorsional = 2\naxial = 2");

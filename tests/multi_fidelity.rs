@@ -214,6 +214,48 @@ fn candidates_are_confirmed_at_full_fidelity_and_the_optimum_is_the_best_of_them
     assert_eq!(tags.iter().filter(|t| **t == "full").count(), 3);
 }
 
+/// `refine = 6`: after the confirmation, the trust region at full fidelity from the best
+/// confirmed point; the optimum is the best full-fidelity point of both, and every refinement
+/// point is a full-fidelity evaluation.
+#[test]
+fn a_refinement_continues_at_full_fidelity_from_the_best_confirmed_point() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = problem_file(
+        dir.path(),
+        "refine",
+        &[],
+        &EXPLORE.replace("confirm = 3\n", "confirm = 3\nrefine = 6\n"),
+    );
+    let out = dir.path().join("solve");
+    run(&[
+        "solve",
+        &file,
+        "--threads",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let s = json(&out.join("solution.json"));
+    let evals = s["evaluations"].as_array().unwrap();
+    let full: Vec<&Value> = evals.iter().filter(|e| e["fidelity"] == "full").collect();
+    let refinement = &s["confirmation"]["refinement"];
+    let n = refinement["evaluations"].as_u64().unwrap() as usize;
+    assert!((1..=6).contains(&n), "{refinement}");
+    assert_eq!(full.len(), 3 + n);
+    assert_eq!(s["status"], refinement["status"]);
+    assert_eq!(s["explore"]["refine"], 6);
+    assert_eq!(s["work"]["by_fidelity"]["full"]["simulations_run"], 3 + n);
+    // The optimum is the best full-fidelity point of the confirmation and the refinement, at
+    // least as good as the best confirmed one.
+    let score = |e: &Value| e["objective"].as_f64().unwrap();
+    let best = full.iter().map(|e| score(e)).fold(f64::MIN, f64::max);
+    let confirmed = full[..3].iter().map(|e| score(e)).fold(f64::MIN, f64::max);
+    assert_eq!(s["objective"]["score"].as_f64().unwrap(), best);
+    assert!(best >= confirmed);
+    assert_eq!(s["objective"]["fidelity"], "full");
+}
+
 const UNCERTAIN: &str = "\n[uncertain]\nsamples = 4\nseed = 11\n[[uncertain.parameter]]\nkey = \"model.bit.limit_force\"\nlaw = \"gamma\"\nmean = \"250 kN\"\ncov = 0.1\n";
 
 /// Fewer samples only: the explore runs are the full fidelity's samples 0..2, so the

@@ -39,7 +39,8 @@ pub fn solve_and_report(
     let explore = problem.study.explore.as_ref().map(|e| e.apply(problem));
     let simulations = match (&explore, &problem.study.explore) {
         (Some(x), Some(e)) => {
-            settings.budget() as u64 * x.study.samples.max(1) as u64 + e.confirm as u64 * per_point
+            settings.budget() as u64 * x.study.samples.max(1) as u64
+                + (e.confirm + e.refine) as u64 * per_point
         }
         _ => settings.budget() as u64 * per_point,
     };
@@ -164,12 +165,16 @@ fn print_summary(
         &format!("{label} (full fidelity)"),
         "no confirmed candidate is feasible at full fidelity",
     );
-    if let Some(x) = outcome.best.as_ref().and_then(|b| c.explore_of(b)) {
-        println!(
+    match outcome.best.as_ref().map(|b| c.explore_of(b)) {
+        Some(Some(x)) => println!(
             "  the same point at the explore fidelity: score {:.3} ({})",
             x.objective.unwrap_or(f64::NAN),
             crate::units::count(x.samples_used, "sample")
-        );
+        ),
+        Some(None) => println!(
+            "  found by the full-fidelity refinement: not evaluated at the explore fidelity"
+        ),
+        None => {}
     }
     println!("  results in {}", out.display());
 }

@@ -188,7 +188,7 @@ pub struct Constraints {
 // The [optimizer] section: one settings struct (and builder) per method.
 mod explore;
 mod optimizer;
-pub use explore::{CONFIRM, CONFIRM_RANGE, Explore, RawExplore};
+pub use explore::{CONFIRM, CONFIRM_RANGE, Explore, REFINE_RANGE, RawExplore};
 pub use optimizer::{
     EgoSettings, EgoSettingsBuilder, EgoTrustRegionSettings, EgoTrustRegionSettingsBuilder,
     GRID_POINTS, GridSettings, GridSettingsBuilder, INITIAL_DESIGN, LocalSearchSettings,

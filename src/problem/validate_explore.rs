@@ -6,7 +6,7 @@
 
 use super::Dimension::Time;
 use super::schema::BasisSection;
-use super::study::{CONFIRM, CONFIRM_RANGE, Explore, RawExplore, Study};
+use super::study::{CONFIRM, CONFIRM_RANGE, Explore, REFINE_RANGE, RawExplore, Study};
 use super::validate::{Checker, family_size};
 use crate::model::{BasisSpec, FamilySize, Mesh, Simulation};
 use crate::units::short;
@@ -56,6 +56,34 @@ pub(super) fn explore(
             }
         },
     };
+    let refine = match raw.refine {
+        None => 0,
+        Some(n) => match usize::try_from(n) {
+            Ok(n) if REFINE_RANGE.contains(&n) => {
+                if n > 0 && study.optimizer.trust_radii().is_none() {
+                    c.record(
+                        &key("refine"),
+                        format!(
+                            "is a trust-region refinement: only for method = \"trust_region\" or \"ego+trust_region\" (whose initial_radius and min_radius it uses), not \"{}\"; use 0 or remove the key, got {n}",
+                            study.optimizer.method().name()
+                        ),
+                    );
+                }
+                n
+            }
+            _ => {
+                c.record(
+                    &key("refine"),
+                    format!(
+                        "must be an integer in [{}, {}] (full-fidelity design points of a trust-region refinement from the best confirmed point; 0: none), got {n}",
+                        REFINE_RANGE.start(),
+                        REFINE_RANGE.end()
+                    ),
+                );
+                0
+            }
+        },
+    };
     let basis = raw.basis.as_ref().and_then(|b| basis(c, b, mesh));
     (c.errors_recorded() == before).then_some(Explore {
         duration,
@@ -63,6 +91,7 @@ pub(super) fn explore(
         samples,
         basis,
         confirm,
+        refine,
     })
 }
 

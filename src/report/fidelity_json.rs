@@ -1,6 +1,6 @@
 //! The multi-fidelity parts of `solution.json` (`[optimizer.explore]`, issue 16 item 2): the
 //! explore overrides in the header (`explore`), the candidates with their explore and full
-//! scores (`confirmation`), and the simulations per fidelity (`work.by_fidelity`). Every field
+//! scores and the full-fidelity refinement (`confirmation`), and the simulations per fidelity (`work.by_fidelity`). Every field
 //! is null (or absent from `work`) for a solve at one fidelity.
 
 use crate::problem::study::Explore;
@@ -22,6 +22,8 @@ pub struct ExploreJson {
     pub basis: Option<String>,
     /// Explore candidates re-evaluated at full fidelity.
     pub confirm: usize,
+    /// Most full-fidelity trust-region points after the confirmation (0: none).
+    pub refine: usize,
 }
 
 impl ExploreJson {
@@ -32,6 +34,7 @@ impl ExploreJson {
             samples: e.samples,
             basis: e.basis.as_ref().map(|b| b.to_string()),
             confirm: e.confirm,
+            refine: e.refine,
         }
     }
 }
@@ -61,6 +64,17 @@ pub struct ConfirmationJson {
     pub explore_best_v0_m_per_h: Option<f64>,
     pub explore_best_score: Option<f64>,
     pub candidates: Vec<CandidateJson>,
+    /// The full-fidelity trust-region refinement (`refine > 0`; null: none ran).
+    pub refinement: Option<RefinementJson>,
+}
+
+/// `confirmation.refinement`: the trust region at full fidelity from the best confirmed point.
+#[derive(Debug, Clone, Serialize)]
+pub struct RefinementJson {
+    /// Design points it evaluated (full fidelity; in `evaluations` after the confirmations).
+    pub evaluations: usize,
+    pub status: SolveStatus,
+    pub termination: String,
 }
 
 impl ConfirmationJson {
@@ -88,6 +102,11 @@ impl ConfirmationJson {
                         .map(|(f, e)| f - e),
                 })
                 .collect(),
+            refinement: c.refinement.as_ref().map(|r| RefinementJson {
+                evaluations: r.evaluations,
+                status: r.status,
+                termination: r.termination.clone(),
+            }),
         }
     }
 }

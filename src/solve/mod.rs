@@ -8,7 +8,7 @@ mod multi_fidelity;
 mod scaling;
 
 pub use check::{CheckedMetric, NumericalCheck, numerical_check};
-pub use multi_fidelity::{Candidate, Confirmation, candidates, solve_multi_fidelity};
+pub use multi_fidelity::{Candidate, Confirmation, Refinement, candidates, solve_multi_fidelity};
 pub use scaling::Scaling;
 
 use crate::model::OperatingPoint;

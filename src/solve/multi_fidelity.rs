@@ -6,8 +6,11 @@
 //! region): the full fidelity evaluates exactly the confirmed candidates, so its cost is
 //! `confirm` × samples simulations, known before the run.
 
-use super::{SolveError, SolveOutcome, SolveStatus, best_point, solve};
-use crate::optimize::IterateCallback;
+use super::{
+    SolveError, SolveOutcome, SolveStatus, StudyBlackBox, best_point, constraints_of, feasible_set,
+    solve,
+};
+use crate::optimize::{IterateCallback, TrustRegionOptions, minimize_trust_region_after};
 use crate::problem::Problem;
 use crate::problem::study::Explore;
 use crate::study::{Fidelity, PointEvaluation, RobustEvaluator};
@@ -23,6 +26,19 @@ pub struct Confirmation {
     pub explore_best: Option<PointEvaluation>,
     /// The candidates in explore rank: each explore evaluation with its full-fidelity one.
     pub candidates: Vec<Candidate>,
+    /// The full-fidelity trust-region refinement (None: `refine = 0`, or no confirmed candidate
+    /// feasible to start from).
+    pub refinement: Option<Refinement>,
+}
+
+/// The full-fidelity trust-region refinement of a multi-fidelity solve (`refine > 0`).
+#[derive(Debug, Clone)]
+pub struct Refinement {
+    /// Design points it evaluated (at most `refine`), all at full fidelity.
+    pub evaluations: usize,
+    /// How it ended: converged or budget_exhausted.
+    pub status: SolveStatus,
+    pub termination: String,
 }
 
 /// One explore candidate and its confirmation at full fidelity (the same operating point).
@@ -114,18 +130,33 @@ pub fn solve_multi_fidelity(
     } else {
         full.evaluate(&ops)
     };
-    let best = best_point(&confirmed);
-    let status = match (&best, explored.status) {
+    let mut best = best_point(&confirmed);
+    let mut status = match (&best, explored.status) {
         (None, _) => SolveStatus::NoFeasiblePoint,
         (Some(_), SolveStatus::NoFeasiblePoint) => SolveStatus::BudgetExhausted,
         (Some(_), s) => s,
     };
     let feasible = confirmed.iter().filter(|p| p.feasible).count();
-    let termination = format!(
+    let mut termination = format!(
         "{} (explore fidelity); {} of the best explore candidates confirmed at full fidelity, {feasible} feasible",
         explored.termination,
         picks.len()
     );
+    let radii = problem.study.optimizer.trust_radii();
+    let (refined, refinement) = match (&best, radii) {
+        (Some(start), Some(radii)) if settings.refine > 0 => {
+            let (refined, r) = refine(problem, full, &confirmed, start, settings.refine, radii)?;
+            termination = format!(
+                "{termination}; then the trust region at full fidelity from the best of them: {} ({} evaluations)",
+                r.termination, r.evaluations
+            );
+            let all: Vec<PointEvaluation> = confirmed.iter().chain(&refined).cloned().collect();
+            best = best_point(&all);
+            status = r.status;
+            (refined, Some(r))
+        }
+        _ => (Vec::new(), None),
+    };
     let candidates = picks
         .into_iter()
         .zip(confirmed.iter().cloned())
@@ -133,6 +164,7 @@ pub fn solve_multi_fidelity(
         .collect();
     let mut evaluations = explored.evaluations;
     evaluations.extend(confirmed);
+    evaluations.extend(refined);
     Ok(SolveOutcome {
         method: explored.method,
         best,
@@ -145,8 +177,48 @@ pub fn solve_multi_fidelity(
             explore_status: explored.status,
             explore_best: explored.best,
             candidates,
+            refinement,
         }),
     })
+}
+
+/// The trust region at full fidelity from `start` (the best confirmed point), with the
+/// `confirmed` evaluations in its models, on at most `budget` design points, with the method's
+/// `(initial_radius, min_radius)`: its evaluations (tagged full) and how it ended.
+fn refine(
+    problem: &Problem,
+    full: &RobustEvaluator,
+    confirmed: &[PointEvaluation],
+    start: &PointEvaluation,
+    budget: usize,
+    (initial_radius, min_radius): (f64, f64),
+) -> Result<(Vec<PointEvaluation>, Refinement), SolveError> {
+    let constraints = constraints_of(problem)?;
+    let set = feasible_set(problem)?;
+    let bb = StudyBlackBox::new(full, constraints);
+    let prior = confirmed
+        .iter()
+        .map(|p| (bb.scaling.to_unit(p.op()), bb.to_evaluation(p)))
+        .collect();
+    let x0 = set.project(&bb.scaling.to_unit(start.op()))?;
+    let opts = TrustRegionOptions {
+        initial_radius,
+        min_radius,
+        max_radius: 0.5_f64.max(initial_radius),
+        max_evaluations: budget,
+        ..TrustRegionOptions::default()
+    };
+    let r = minimize_trust_region_after(&bb, &set, &x0, &opts, prior, None)?;
+    let evaluations = bb.log.into_inner().unwrap_or_else(|e| e.into_inner());
+    let status = SolveStatus::of(r.stop, Some(start));
+    Ok((
+        evaluations.clone(),
+        Refinement {
+            evaluations: evaluations.len(),
+            status,
+            termination: r.termination,
+        },
+    ))
 }
 
 #[cfg(test)]

@@ -26,6 +26,8 @@ pub struct RawExplore {
     pub samples: Option<i64>,
     /// Explore candidates re-evaluated at full fidelity.
     pub confirm: Option<i64>,
+    /// Full-fidelity design points of a trust-region refinement from the best confirmed point.
+    pub refine: Option<i64>,
     /// `[optimizer.explore.basis]`: the explore basis, keys of `[mesh.basis]`.
     pub basis: Option<BasisSection>,
 }
@@ -34,6 +36,8 @@ pub struct RawExplore {
 pub const CONFIRM: usize = 3;
 /// Legal range of `optimizer.explore.confirm`.
 pub const CONFIRM_RANGE: std::ops::RangeInclusive<usize> = 1..=50;
+/// Legal range of `optimizer.explore.refine` (0: no refinement, the default).
+pub const REFINE_RANGE: std::ops::RangeInclusive<usize> = 0..=1000;
 
 /// The validated explore fidelity: each `None` keeps the full fidelity's value.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,6 +56,11 @@ pub struct Explore {
     /// Distinct explore candidates re-evaluated at full fidelity; default [`CONFIRM`], in
     /// [`CONFIRM_RANGE`].
     pub confirm: usize,
+    /// Full-fidelity design points of a trust-region refinement from the best confirmed point
+    /// (the confirmed candidates in its models, the method's `initial_radius` and `min_radius`);
+    /// 0 (the default): none. In [`REFINE_RANGE`]; above 0 only for `method = "trust_region"` or
+    /// `"ego+trust_region"`.
+    pub refine: usize,
 }
 
 impl Explore {
@@ -93,6 +102,13 @@ impl Explore {
         }
         if let Some(b) = &self.basis {
             parts.push(format!("basis {b}"));
+        }
+        parts.push(format!("{} confirmed", self.confirm));
+        if self.refine > 0 {
+            parts.push(format!(
+                "then at most {} full-fidelity trust-region points",
+                self.refine
+            ));
         }
         parts.join(", ")
     }
