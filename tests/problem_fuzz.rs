@@ -20,7 +20,7 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 9] = [
+const SHIPPED: [(&str, &str); 10] = [
     (
         "problems/seed_mc2014.toml",
         include_str!("../problems/seed_mc2014.toml"),
@@ -56,6 +56,10 @@ const SHIPPED: [(&str, &str); 9] = [
     (
         "problems/bench/seed_study.toml",
         include_str!("../problems/bench/seed_study.toml"),
+    ),
+    (
+        "problems/bench/tiny_multi_fidelity.toml",
+        include_str!("../problems/bench/tiny_multi_fidelity.toml"),
     ),
 ];
 

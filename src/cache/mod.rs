@@ -200,6 +200,17 @@ impl EvalCache {
             .count()
     }
 
+    /// How many stored keys belong to none of the models `hashes` (None entries are skipped):
+    /// [`other_models`](Self::other_models) for a run that uses several models (a
+    /// multi-fidelity solve).
+    pub fn other_models_than(&self, hashes: &[Option<u64>]) -> usize {
+        self.lock()
+            .entries
+            .keys()
+            .filter(|k| !hashes.contains(&Some(k.model_hash)))
+            .count()
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, Inner> {
         // Inner is updated only after a successful write, so it is consistent even if a thread
         // panicked while holding the lock.

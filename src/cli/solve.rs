@@ -35,21 +35,35 @@ pub fn solve_and_report(
     let cache = study::open_cache(out, resume)?;
     let settings = &problem.study.optimizer;
     let per_point = problem.study.samples.max(1) as u64;
+    // Multi-fidelity: the problem at [optimizer.explore]'s fidelity explores, the full confirms.
+    let explore = problem.study.explore.as_ref().map(|e| e.apply(problem));
+    let simulations = match (&explore, &problem.study.explore) {
+        (Some(x), Some(e)) => {
+            settings.budget() as u64 * x.study.samples.max(1) as u64
+                + (e.confirm + e.refine) as u64 * per_point
+        }
+        _ => settings.budget() as u64 * per_point,
+    };
     let bar = study::progress_bar(
         quiet,
-        settings.budget() as u64 * per_point,
+        simulations,
         problem.study.sequential.is_some(),
         "solve",
     );
     let ev = study::evaluator(problem, Some(&cache), &bar, quiet)?;
+    let explore_ev = explore
+        .as_ref()
+        .map(|x| study::explore_evaluator(x, Some(&cache), &bar))
+        .transpose()?;
     let bar2 = bar.clone();
-    let outcome = solve::solve(
-        problem,
-        &ev,
+    let on_iterate: Option<crate::optimize::IterateCallback> =
         Some(Box::new(move |it: &crate::optimize::Iterate| {
             bar2.set_message(format!("iteration {} merit {:.3}", it.iteration, it.merit));
-        })),
-    )?;
+        }));
+    let outcome = match &explore_ev {
+        Some(x) => solve::solve_multi_fidelity(problem, &ev, x, on_iterate)?,
+        None => solve::solve(problem, &ev, on_iterate)?,
+    };
     bar.finish_and_clear();
     let check = match outcome.best.as_ref() {
         Some(best) => {
@@ -65,7 +79,7 @@ pub fn solve_and_report(
         }
         None => None,
     };
-    let work = WorkJson::of(&ev, clock.elapsed().as_secs_f64());
+    let work = WorkJson::of_fidelities(&ev, explore_ev.as_ref(), clock.elapsed().as_secs_f64());
     write_report(
         problem,
         problem_file,
@@ -76,7 +90,7 @@ pub fn solve_and_report(
         check.as_ref(),
     )?;
     if print {
-        print_summary(problem, out, &outcome, &ev);
+        print_summary(problem, out, &outcome, &ev, explore_ev.as_ref());
         if let Some(c) = &check {
             print_check(c);
         }
@@ -105,18 +119,34 @@ fn print_summary(
     out: &Path,
     outcome: &SolveOutcome,
     ev: &crate::study::RobustEvaluator,
+    explore: Option<&crate::study::RobustEvaluator>,
 ) {
     use std::sync::atomic::Ordering::Relaxed;
+    let work = |ev: &crate::study::RobustEvaluator| {
+        format!(
+            "{} run, {} from the cache",
+            crate::units::count(ev.counters.simulated.load(Relaxed), "simulation"),
+            ev.counters.cached.load(Relaxed)
+        )
+    };
+    let simulations = match explore {
+        Some(x) => format!("explore fidelity: {}; full fidelity: {}", work(x), work(ev)),
+        None => work(ev),
+    };
     println!(
-        "{}: {} evaluated by {} ({} run, {} from the cache); {}",
+        "{}: {} evaluated by {} ({simulations}); {}",
         problem.name,
         crate::units::count(outcome.evaluations.len(), "point"),
         outcome.method.name(),
-        crate::units::count(ev.counters.simulated.load(Relaxed), "simulation"),
-        ev.counters.cached.load(Relaxed),
         outcome.termination
     );
-    study::print_table(&outcome.evaluations);
+    match &outcome.confirmation {
+        Some(c) => {
+            println!("  explore fidelity: {}", c.explore.describe());
+            study::print_fidelity_table(&outcome.evaluations);
+        }
+        None => study::print_table(&outcome.evaluations),
+    }
     let label = if outcome.status.is_optimum() {
         "optimum".to_string()
     } else {
@@ -125,7 +155,27 @@ fn print_summary(
             outcome.status.text()
         )
     };
-    study::print_best(outcome.best.as_ref(), &label, "no feasible point was found");
+    let Some(c) = &outcome.confirmation else {
+        study::print_best(outcome.best.as_ref(), &label, "no feasible point was found");
+        println!("  results in {}", out.display());
+        return;
+    };
+    study::print_best(
+        outcome.best.as_ref(),
+        &format!("{label} (full fidelity)"),
+        "no confirmed candidate is feasible at full fidelity",
+    );
+    match outcome.best.as_ref().map(|b| c.explore_of(b)) {
+        Some(Some(x)) => println!(
+            "  the same point at the explore fidelity: score {:.3} ({})",
+            x.objective.unwrap_or(f64::NAN),
+            crate::units::count(x.samples_used, "sample")
+        ),
+        Some(None) => println!(
+            "  found by the full-fidelity refinement: not evaluated at the explore fidelity"
+        ),
+        None => {}
+    }
     println!("  results in {}", out.display());
 }
 

@@ -143,7 +143,13 @@ pub fn evaluator<'a>(
         .context("setting up the robust evaluation")?
         .with_progress(move || bar.inc(1));
     if let Some(c) = cache {
-        let stale = c.other_models(ev.model_hash);
+        // A multi-fidelity solve's explore runs share the cache under their own model hash.
+        let explore = problem
+            .study
+            .explore
+            .as_ref()
+            .map(|e| crate::study::model_hash(&e.apply(problem)));
+        let stale = c.other_models_than(&[Some(ev.model_hash), explore]);
         if stale > 0 && !quiet {
             eprintln!(
                 "{stale} cached results in {} are of other numerics or another problem: ignored",
@@ -161,11 +167,40 @@ pub fn evaluator<'a>(
     Ok(ev)
 }
 
+/// The explore evaluator of a multi-fidelity solve: `explore` (the problem at
+/// `[optimizer.explore]`'s fidelity, [`crate::problem::study::Explore::apply`]) on the same cache
+/// and progress bar, its evaluations tagged `explore`. Refused under MPI: the worker ranks
+/// rebuild the problem from its file and would simulate at the full fidelity.
+pub fn explore_evaluator<'a>(
+    explore: &'a Problem,
+    cache: Option<&'a EvalCache>,
+    bar: &'a ProgressBar,
+) -> anyhow::Result<RobustEvaluator<'a>> {
+    #[cfg(feature = "mpi")]
+    anyhow::ensure!(
+        crate::study::mpi::ranks() <= 1,
+        "{}: [optimizer.explore] (multi-fidelity) does not run under mpirun yet: the worker ranks would simulate the full fidelity; run it without mpirun, or remove the section",
+        explore.source.display()
+    );
+    Ok(RobustEvaluator::new(explore, cache)
+        .context("setting up the explore fidelity's robust evaluation")?
+        .with_progress(move || bar.inc(1))
+        .with_fidelity(crate::study::Fidelity::Explore))
+}
+
 /// The terminal table of evaluated points.
 pub fn print_table(points: &[PointEvaluation]) {
     println!("{TABLE_HEADER}");
     for p in points {
         println!("{}", table_row(p));
+    }
+}
+
+/// The terminal table of a multi-fidelity solve: every row marked with its fidelity.
+pub fn print_fidelity_table(points: &[PointEvaluation]) {
+    println!("fidelity {TABLE_HEADER}");
+    for p in points {
+        println!("{:<8} {}", p.fidelity.name(), table_row(p));
     }
 }
 

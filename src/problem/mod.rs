@@ -11,6 +11,7 @@ pub mod schema;
 pub mod study;
 mod validate;
 mod validate_expect;
+mod validate_explore;
 mod validate_fatigue;
 mod validate_study;
 mod validate_threshold;

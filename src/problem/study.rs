@@ -111,6 +111,8 @@ pub struct OptimizerSection {
     pub seed: Option<i64>,
     pub initial_design: Option<i64>,
     pub ego_share: Option<f64>,
+    /// `[optimizer.explore]`: the cheap fidelity of a multi-fidelity solve.
+    pub explore: Option<RawExplore>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -184,7 +186,9 @@ pub struct Constraints {
 }
 
 // The [optimizer] section: one settings struct (and builder) per method.
+mod explore;
 mod optimizer;
+pub use explore::{CONFIRM, CONFIRM_RANGE, Explore, REFINE_RANGE, RawExplore};
 pub use optimizer::{
     EgoSettings, EgoSettingsBuilder, EgoTrustRegionSettings, EgoTrustRegionSettingsBuilder,
     GRID_POINTS, GridSettings, GridSettingsBuilder, INITIAL_DESIGN, LocalSearchSettings,
@@ -273,6 +277,8 @@ pub struct Study {
     pub risk: Vec<RiskTerm>,
     pub constraints: Option<Constraints>,
     pub optimizer: OptimizerSettings,
+    /// `[optimizer.explore]`: multi-fidelity `solve` (None: every evaluation at full fidelity).
+    pub explore: Option<Explore>,
     pub expect: Option<Expect>,
     /// What the command line changed (`--samples`, `--budget`, `--threads`); none when read.
     pub overrides: Overrides,
@@ -325,6 +331,13 @@ impl Study {
         if n > 1 && self.uncertain.is_empty() {
             return Err(format!(
                 "the problem has no [[uncertain.parameter]], so the {n} samples would all be the same; declare one or use 1"
+            ));
+        }
+        if let Some(e) = self.explore.as_ref().and_then(|e| e.samples)
+            && n <= e
+        {
+            return Err(format!(
+                "must exceed optimizer.explore.samples = {e}, the explore fidelity's samples per point (the full fidelity must be the richer one), got {n}"
             ));
         }
         if let Some(s) = &self.sequential

@@ -439,9 +439,16 @@ pub(super) fn problem(
     let operating_point = c.section(operating_point(&c, &raw.operating_point));
     let length = model.as_ref().map_or(f64::NAN, |m| m.length);
     let simulation = c.section(simulation(&c, &raw.simulation, length));
-    let study = model
+    let mut study = model
         .as_ref()
         .and_then(|m| c.section(super::validate_study::study(&c, &raw, m)));
+    // [optimizer.explore] overrides the window, the basis and the samples: read against them.
+    if let (Some(s), Some(e)) = (
+        study.as_mut(),
+        raw.optimizer.as_ref().and_then(|o| o.explore.as_ref()),
+    ) {
+        s.explore = super::validate_explore::explore(&c, e, mesh.as_ref(), simulation.as_ref(), s);
+    }
     let campbell = c.section(campbell(&c, raw.campbell.as_ref()));
     // The name is a folder of results/: what a filesystem takes as one folder name (at most 255
     // bytes on the usual ones; a NUL or a 300-character name failed only when the output was made).
@@ -744,7 +751,7 @@ fn mesh(c: &Checker, m: &MeshSection) -> Result<Mesh, ProblemError> {
 const MAX_CUTOFF_HZ: f64 = 1e5;
 
 /// A family's size: an integer count in [1, elements] or a cutoff frequency in (0, 1e5] Hz.
-fn family_size(
+pub(super) fn family_size(
     c: &Checker,
     key: &str,
     raw: &RawQuantity,

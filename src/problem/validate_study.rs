@@ -108,6 +108,8 @@ pub(super) fn study(
         risk,
         constraints,
         optimizer,
+        // Read by `validate_explore` once the mesh and the window it overrides are known.
+        explore: None,
         expect,
         overrides: Overrides::default(),
     })
@@ -587,6 +589,7 @@ fn refuse_unused_keys(
         seed,
         initial_design,
         ego_share,
+        explore: _,
     } = o;
     let given = [
         ("max_evaluations", max_evaluations.is_some()),

@@ -8,7 +8,8 @@
 //! (its key with the SI suffix taken off, e.g. `mse [MPa]`, `stick_fraction [1]`; see
 //! [`metric_column`]), then the point's `score` (the robust objective, the same on every row of a
 //! point; empty when a sample failed; `[m/h]` for a score of ROP, `[1]` for efficiency),
-//! `feasible` (`true`/`false`) and `failure` (why the sample or the point failed, else empty).
+//! `feasible` (`true`/`false`), `failure` (why the sample or the point failed, else empty) and
+//! `fidelity` (`full`, or `explore` for the cheap evaluations of a multi-fidelity solve).
 //!
 //! Numbers are written with 10 significant digits, as the shortest text that reads back to the
 //! rounded value (`55.3`, not `55.300000000000004` from the conversion of 55300 N to kN): enough
@@ -90,7 +91,7 @@ pub fn evaluations_csv<'a>(
         Quantity::Rop => "m/h",
         Quantity::Efficiency => "1",
     };
-    let _ = writeln!(out, ",score [{score_unit}],feasible,failure");
+    let _ = writeln!(out, ",score [{score_unit}],feasible,failure,fidelity");
     for p in points {
         let score = p.objective.map(number).unwrap_or_default();
         for s in &p.samples {
@@ -125,9 +126,10 @@ pub fn evaluations_csv<'a>(
             }
             let _ = writeln!(
                 out,
-                ",{score},{},{}",
+                ",{score},{},{},{}",
                 p.feasible,
-                quoted(failure.unwrap_or(""))
+                quoted(failure.unwrap_or("")),
+                p.fidelity.name()
             );
         }
     }
@@ -247,6 +249,7 @@ cov = 0.1
                     cached: true,
                 },
             ],
+            fidelity: crate::study::Fidelity::Explore,
         }
     }
 
@@ -278,7 +281,7 @@ cov = 0.1
         assert_eq!(unique.len(), header.len());
         assert_eq!(
             header[4 + METRICS.len()..],
-            ["score [m/h]", "feasible", "failure"]
+            ["score [m/h]", "feasible", "failure", "fidelity"]
         );
 
         // Sample 0: its drawn Γ_BR in kN to 10 digits, every metric, +∞ as `inf`.
@@ -302,7 +305,10 @@ cov = 0.1
         assert_eq!(cell("max_von_mises [MPa]"), "0.0000005");
         assert_eq!(cell("max_von_mises_at [m]"), "0.5");
         assert_eq!(cell("fatigue_life [h]"), "0.5");
-        assert_eq!(row[row.len() - 3..], ["", "false", "sample 1 failed"]);
+        assert_eq!(
+            row[row.len() - 4..],
+            ["", "false", "sample 1 failed", "explore"]
+        );
 
         // Sample 1 failed: no metrics, its reason quoted (it holds a comma).
         let (cells, reason) = lines[2].split_once('"').unwrap();
@@ -312,6 +318,6 @@ cov = 0.1
         assert!((gamma_kn - 1e-3 * drawn.samples[1].values[0]).abs() <= 1e-9 * gamma_kn);
         assert!(row[4..4 + METRICS.len()].iter().all(|c| c.is_empty()));
         assert_eq!(row[4 + METRICS.len()..], ["", "false", ""]);
-        assert_eq!(reason, "step collapsed, at t = 0.5 s\"");
+        assert_eq!(reason, "step collapsed, at t = 0.5 s\",explore");
     }
 }

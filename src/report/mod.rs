@@ -15,6 +15,7 @@ mod campbell;
 mod csv;
 mod envelope;
 mod evaluations_csv;
+mod fidelity_json;
 mod plots;
 mod study_json;
 mod study_plots;
@@ -32,6 +33,10 @@ pub use campbell::{
 pub use csv::{CsvStream, probe_column_name, timeseries_csv, write_timeseries_csv};
 pub use envelope::{envelope_csv, plot_stress_envelope, write_envelope_csv};
 pub use evaluations_csv::{evaluations_csv, write_evaluations_csv};
+pub use fidelity_json::{
+    ByFidelity, CandidateJson, ConfirmationJson, ExploreJson, FidelityWork, RefinementJson,
+    explore_score_of,
+};
 pub use plots::{
     Panel, PlotError, plot_bit_axial, plot_bit_rotation, plot_panels, plot_panels_over,
     plot_probe_radial,

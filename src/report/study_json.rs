@@ -107,6 +107,10 @@ pub struct WorkJson {
     /// What ran the simulations ("2 threads", "4 MPI ranks").
     pub executor: String,
     pub wall_time_s: f64,
+    /// A multi-fidelity solve's simulations per fidelity (absent at one fidelity; the counts
+    /// above are their sums).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub by_fidelity: Option<super::ByFidelity>,
 }
 
 impl WorkJson {
@@ -119,7 +123,29 @@ impl WorkJson {
             samples_per_point: ev.samples_per_point(),
             executor: ev.executor().describe(),
             wall_time_s,
+            by_fidelity: None,
         }
+    }
+
+    /// The work of a solve on `full` and, multi-fidelity, on `explore` too: the counts summed
+    /// over both, and each fidelity's in `by_fidelity`.
+    pub fn of_fidelities(
+        full: &RobustEvaluator,
+        explore: Option<&RobustEvaluator>,
+        wall_time_s: f64,
+    ) -> Self {
+        let mut work = WorkJson::of(full, wall_time_s);
+        if let Some(x) = explore {
+            let (f, e) = (super::FidelityWork::of(full), super::FidelityWork::of(x));
+            work.simulations_run = f.simulations_run + e.simulations_run;
+            work.simulations_from_cache = f.simulations_from_cache + e.simulations_from_cache;
+            work.simulations_failed = f.simulations_failed + e.simulations_failed;
+            work.by_fidelity = Some(super::ByFidelity {
+                explore: e,
+                full: f,
+            });
+        }
+        work
     }
 }
 
@@ -138,6 +164,8 @@ pub struct EvaluationJson {
     pub feasible: bool,
     pub failure: Option<String>,
     pub mean_metrics: BTreeMap<String, f64>,
+    /// The fidelity that produced the numbers: "full", or "explore" in a multi-fidelity solve.
+    pub fidelity: crate::study::Fidelity,
 }
 
 impl EvaluationJson {
@@ -153,6 +181,7 @@ impl EvaluationJson {
             feasible: p.feasible,
             failure: p.failure.clone(),
             mean_metrics: p.mean_metrics.clone(),
+            fidelity: p.fidelity,
         }
     }
 }
@@ -174,6 +203,11 @@ pub struct ObjectiveJson {
     pub statistic: Statistic,
     pub quantity_value: f64,
     pub risk: Vec<RiskValue>,
+    /// The fidelity of these numbers: always "full" for a solve's optimum (multi-fidelity: the
+    /// best of the candidates confirmed at full fidelity).
+    pub fidelity: crate::study::Fidelity,
+    /// Multi-fidelity: the score of the same point at the explore fidelity (null otherwise).
+    pub explore_score: Option<f64>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -238,6 +272,10 @@ pub struct SolutionJson<'a> {
     pub metrics: Option<BTreeMap<String, f64>>,
     pub metrics_per_sample: Option<Vec<SampleResult>>,
     pub constraints: Option<ConstraintsJson>,
+    /// `[optimizer.explore]`: the explore fidelity's overrides (null: one fidelity).
+    pub explore: Option<super::ExploreJson>,
+    /// Multi-fidelity: the candidates confirmed at full fidelity (null: one fidelity).
+    pub confirmation: Option<super::ConfirmationJson>,
     pub evaluations: Vec<EvaluationJson>,
     pub path: &'a [PathPoint],
     pub work: WorkJson,
@@ -277,6 +315,8 @@ impl<'a> SolutionJson<'a> {
                 statistic: study.statistic,
                 quantity_value: b.quantity.expect("best is scored"),
                 risk: b.risk.clone(),
+                fidelity: b.fidelity,
+                explore_score: super::explore_score_of(outcome.confirmation.as_ref(), b),
             }),
             metrics: best.map(|b| b.mean_metrics.clone()),
             metrics_per_sample: best.map(|b| b.samples.clone()),
@@ -286,6 +326,8 @@ impl<'a> SolutionJson<'a> {
                     .as_ref()
                     .map(|c| ConstraintsJson::at(c, b))
             }),
+            explore: (outcome.confirmation.as_ref()).map(|c| super::ExploreJson::of(&c.explore)),
+            confirmation: (outcome.confirmation.as_ref()).map(super::ConfirmationJson::of),
             evaluations: outcome.evaluations.iter().map(EvaluationJson::of).collect(),
             path: &outcome.path,
             work,

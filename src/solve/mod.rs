@@ -4,9 +4,11 @@
 //! is just [`RobustEvaluator::evaluate`]).
 
 mod check;
+mod multi_fidelity;
 mod scaling;
 
 pub use check::{CheckedMetric, NumericalCheck, numerical_check};
+pub use multi_fidelity::{Candidate, Confirmation, Refinement, candidates, solve_multi_fidelity};
 pub use scaling::Scaling;
 
 use crate::model::OperatingPoint;
@@ -33,6 +35,14 @@ pub enum SolveError {
     Infeasible { file: String, message: String },
     #[error("optimizer: {0}")]
     Optimize(#[from] OptimizeError),
+    #[error("{file}: a multi-fidelity solve needs an [optimizer.explore] section")]
+    NoExplore { file: String },
+    #[error("{file}: key `{key}`: {message}")]
+    Explore {
+        file: String,
+        key: &'static str,
+        message: String,
+    },
 }
 
 /// The evaluator as a black box on the unit box: minimise −score subject to the chance
@@ -159,6 +169,9 @@ pub struct SolveOutcome {
     pub path: Vec<PathPoint>,
     pub termination: String,
     pub status: SolveStatus,
+    /// Multi-fidelity (`[optimizer.explore]`): the explore candidates and their full-fidelity
+    /// confirmation; None for a solve at one fidelity.
+    pub confirmation: Option<Confirmation>,
 }
 
 fn constraints_of(problem: &Problem) -> Result<&Constraints, SolveError> {
@@ -242,7 +255,8 @@ pub fn best_point(points: &[PointEvaluation]) -> Option<PointEvaluation> {
         .cloned()
 }
 
-/// The robust optimum of a problem with the method of its `[optimizer]` section.
+/// The robust optimum of a problem with the method of its `[optimizer]` section, every point on
+/// `evaluator` (one fidelity: `[optimizer.explore]` is [`solve_multi_fidelity`]'s).
 /// `on_iterate` is called with every iterate (e.g. to update a progress bar).
 pub fn solve(
     problem: &Problem,
@@ -353,6 +367,7 @@ pub fn solve(
         evaluations,
         path,
         termination,
+        confirmation: None,
     })
 }
 

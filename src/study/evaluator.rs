@@ -7,6 +7,7 @@
 //! simulation that fails (diverges, leaves the finite range, cannot step) makes its point
 //! infeasible; it is recorded, never a crash.
 
+use super::Fidelity;
 use super::executor::{SampleExecutor, SampleJob, Simulated, Threads};
 use super::score::{PointEvaluation, SampleOutcome, SampleResult, metric_map, score};
 use super::sequential::evaluate_in_rounds;
@@ -54,6 +55,8 @@ pub struct RobustEvaluator<'a> {
     pub counters: WorkCounters,
     progress: Option<Box<dyn Fn() + Sync + 'a>>,
     executor: Box<dyn SampleExecutor + 'a>,
+    /// The fidelity its evaluations are tagged with ([`Fidelity::Full`] unless set).
+    fidelity: Fidelity,
 }
 
 /// Why the evaluator could not be set up.
@@ -214,6 +217,7 @@ impl<'a> RobustEvaluator<'a> {
             counters: WorkCounters::default(),
             progress: None,
             executor: Box::new(Threads),
+            fidelity: Fidelity::Full,
         })
     }
 
@@ -227,6 +231,22 @@ impl<'a> RobustEvaluator<'a> {
     pub fn with_executor(mut self, executor: impl SampleExecutor + 'a) -> Self {
         self.executor = Box::new(executor);
         self
+    }
+
+    /// Tag every evaluation with `fidelity` (a multi-fidelity solve's explore evaluator).
+    pub fn with_fidelity(mut self, fidelity: Fidelity) -> Self {
+        self.fidelity = fidelity;
+        self
+    }
+
+    /// The fidelity its evaluations are tagged with.
+    pub fn fidelity(&self) -> Fidelity {
+        self.fidelity
+    }
+
+    /// Generalised coordinates of the (nominal) reduced model: the size of the basis.
+    pub fn basis_size(&self) -> usize {
+        self.models.first().map_or(0, |m| m.size())
     }
 
     /// What runs the simulations ("2 threads").
@@ -416,7 +436,9 @@ impl<'a> RobustEvaluator<'a> {
 
     /// Combine the samples of one point into its score, risk terms and chance constraints.
     pub fn score(&self, op: OperatingPoint, samples: Vec<SampleResult>) -> PointEvaluation {
-        score(&self.problem.study, op, samples)
+        let mut p = score(&self.problem.study, op, samples);
+        p.fidelity = self.fidelity;
+        p
     }
 }
 

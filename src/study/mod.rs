@@ -13,6 +13,7 @@
 
 pub mod evaluator;
 pub mod executor;
+pub mod fidelity;
 #[cfg(feature = "mpi")]
 pub mod mpi;
 pub mod score;
@@ -20,6 +21,7 @@ pub mod sequential;
 
 pub use evaluator::{RobustEvaluator, SetupError, WorkCounters, model_hash};
 pub use executor::{OnResult, RunJob, SampleExecutor, SampleJob, Serial, Simulated, Threads};
+pub use fidelity::Fidelity;
 pub use score::{
     ChanceValue, PointEvaluation, RiskValue, SampleOutcome, SampleResult, bootstrap_seed,
     deterministic_violations, metric_map, score, score_interval,

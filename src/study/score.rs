@@ -76,6 +76,8 @@ pub struct PointEvaluation {
     /// That interval, [low, high] (the percentile interval need not be centred on the score).
     pub score_interval: Option<[f64; 2]>,
     pub samples: Vec<SampleResult>,
+    /// The fidelity that produced the evaluation (`explore` only in a multi-fidelity solve).
+    pub fidelity: super::Fidelity,
 }
 
 impl PointEvaluation {
@@ -212,6 +214,7 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
         score_half_width: None,
         score_interval: None,
         samples: Vec::new(),
+        fidelity: super::Fidelity::Full,
     };
     let maps: Vec<&BTreeMap<String, f64>> = samples
         .iter()

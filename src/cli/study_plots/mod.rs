@@ -200,7 +200,15 @@ pub fn solve_plots(problem: &Problem, out: &Path, o: &SolveOutcome) -> anyhow::R
         &evaluated(&o.evaluations),
         &path,
         optimum,
-        &format!("{}: {} path", problem.name, o.method.name()),
+        &match o.confirmation {
+            // The path is the exploration's; the optimum is the best confirmed point.
+            Some(_) => format!(
+                "{}: {} path (explore fidelity), optimum at full fidelity",
+                problem.name,
+                o.method.name()
+            ),
+            None => format!("{}: {} path", problem.name, o.method.name()),
+        },
         &out.join("optimizer_path.svg"),
     )?;
     if let Some(b) = &o.best {

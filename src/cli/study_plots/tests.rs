@@ -108,6 +108,7 @@ pub(in crate::cli) fn point(study: &Study, omega_rpm: f64, v0_m_per_h: f64) -> P
                 cached: false,
             })
             .collect(),
+        fidelity: crate::study::Fidelity::Full,
     }
 }
 

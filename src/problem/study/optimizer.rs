@@ -455,6 +455,16 @@ impl OptimizerSettings {
         }
     }
 
+    /// `(initial_radius, min_radius)` of the methods with a trust region (`trust_region`,
+    /// `ego+trust_region`): fractions of the bounds box.
+    pub fn trust_radii(&self) -> Option<(f64, f64)> {
+        match self {
+            OptimizerSettings::TrustRegion(s) => Some((s.initial_radius, s.min_radius)),
+            OptimizerSettings::EgoTrustRegion(s) => Some((s.initial_radius, s.min_radius)),
+            _ => None,
+        }
+    }
+
     /// Starting point (Ω rad/s, V0 m/s), for the methods that start from one.
     pub fn start(&self) -> Option<[f64; 2]> {
         match self {

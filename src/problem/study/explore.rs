@@ -1,0 +1,115 @@
+//! `[optimizer.explore]`: the cheap fidelity of a multi-fidelity `solve` (issue 16, item 2).
+//!
+//! The section gives the explore fidelity as overrides of the full one (the problem's own
+//! `[simulation]`, `[mesh]` and `[uncertain]`): a shorter window (`duration`, optionally its own
+//! `settling_time`), fewer Monte Carlo samples per point (`samples`: samples 0..n of the full
+//! set, the same draws) and a smaller reduced basis (`[optimizer.explore.basis]`, the keys of
+//! `[mesh.basis]`). The configured method runs on the explore fidelity; then the `confirm` best
+//! distinct candidates (feasible first, by explore score) are evaluated at full fidelity and the
+//! reported optimum is the best full-fidelity point ([`crate::solve`]). Validation
+//! (`validate_explore.rs`) refuses every override that is not cheaper than the full fidelity.
+
+use super::super::schema::{BasisSection, RawQuantity};
+use crate::model::BasisSpec;
+use crate::problem::Problem;
+use serde::Deserialize;
+
+/// `[optimizer.explore]` as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExplore {
+    /// Simulated time of an explore run (a time; shorter than `simulation.duration`).
+    pub duration: Option<RawQuantity>,
+    /// Start of the explore analysis window (a time; shorter than the explore duration).
+    pub settling_time: Option<RawQuantity>,
+    /// Monte Carlo samples per explore point (fewer than `uncertain.samples`).
+    pub samples: Option<i64>,
+    /// Explore candidates re-evaluated at full fidelity.
+    pub confirm: Option<i64>,
+    /// Full-fidelity design points of a trust-region refinement from the best confirmed point.
+    pub refine: Option<i64>,
+    /// `[optimizer.explore.basis]`: the explore basis, keys of `[mesh.basis]`.
+    pub basis: Option<BasisSection>,
+}
+
+/// Candidates confirmed at full fidelity when `confirm` is not given.
+pub const CONFIRM: usize = 3;
+/// Legal range of `optimizer.explore.confirm`.
+pub const CONFIRM_RANGE: std::ops::RangeInclusive<usize> = 1..=50;
+/// Legal range of `optimizer.explore.refine` (0: no refinement, the default).
+pub const REFINE_RANGE: std::ops::RangeInclusive<usize> = 0..=1000;
+
+/// The validated explore fidelity: each `None` keeps the full fidelity's value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Explore {
+    /// Simulated time of an explore run, s; in (settling time, `simulation.duration`).
+    pub duration: Option<f64>,
+    /// Start of the explore analysis window, s; in [0, explore duration).
+    pub settling_time: Option<f64>,
+    /// Monte Carlo samples per explore point; in [1, `uncertain.samples` − 1] (above
+    /// `uncertain.sequential.min_samples` with sequential sampling, where it is the most an
+    /// explore point may use).
+    pub samples: Option<usize>,
+    /// The explore basis; no family larger than the full basis's, and the explore reduced model
+    /// strictly smaller (checked when the models are built, see [`crate::solve`]).
+    pub basis: Option<BasisSpec>,
+    /// Distinct explore candidates re-evaluated at full fidelity; default [`CONFIRM`], in
+    /// [`CONFIRM_RANGE`].
+    pub confirm: usize,
+    /// Full-fidelity design points of a trust-region refinement from the best confirmed point
+    /// (the confirmed candidates in its models, the method's `initial_radius` and `min_radius`);
+    /// 0 (the default): none. In [`REFINE_RANGE`]; above 0 only for `method = "trust_region"` or
+    /// `"ego+trust_region"`.
+    pub refine: usize,
+}
+
+impl Explore {
+    /// `full` at the explore fidelity: its window, samples and basis replaced by the overrides
+    /// given, and without `[optimizer.explore]` (the explore problem has one fidelity). The
+    /// evaluation-cache key of its simulations ([`crate::study::model_hash`]) differs from the
+    /// full problem's whenever the window or the basis does; with only fewer samples the
+    /// simulations are the full fidelity's own (sample i is the same draw) and share its cache
+    /// entries.
+    pub fn apply(&self, full: &Problem) -> Problem {
+        let mut p = full.clone();
+        if let Some(d) = self.duration {
+            p.simulation.duration = d;
+        }
+        if let Some(t) = self.settling_time {
+            p.simulation.settling_time = t;
+        }
+        if let Some(n) = self.samples {
+            p.study.samples = n;
+        }
+        if let Some(b) = &self.basis {
+            p.mesh.basis = b.clone();
+        }
+        p.study.explore = None;
+        p
+    }
+
+    /// The overrides in words, for the terminal: `duration 0.8 s, samples 4, basis …`.
+    pub fn describe(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some(d) = self.duration {
+            parts.push(format!("duration {} s", crate::units::short(d)));
+        }
+        if let Some(t) = self.settling_time {
+            parts.push(format!("settling_time {} s", crate::units::short(t)));
+        }
+        if let Some(n) = self.samples {
+            parts.push(format!("samples {n}"));
+        }
+        if let Some(b) = &self.basis {
+            parts.push(format!("basis {b}"));
+        }
+        parts.push(format!("{} confirmed", self.confirm));
+        if self.refine > 0 {
+            parts.push(format!(
+                "then at most {} full-fidelity trust-region points",
+                self.refine
+            ));
+        }
+        parts.join(", ")
+    }
+}
