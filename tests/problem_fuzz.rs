@@ -20,10 +20,14 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 10] = [
+const SHIPPED: [(&str, &str); 11] = [
     (
         "problems/seed_mc2014.toml",
         include_str!("../problems/seed_mc2014.toml"),
+    ),
+    (
+        "problems/regression/slim_pipe_fatigue.toml",
+        include_str!("../problems/regression/slim_pipe_fatigue.toml"),
     ),
     (
         "problems/seed_mc2014_paper.toml",
