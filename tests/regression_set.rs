@@ -176,21 +176,32 @@ fn buckling_limited_optima_lie_below_the_closed_form_buckling_feed() {
     }
 }
 
+/// Run the drillopt binary with `args`; it must succeed (its stderr in the failure message).
+fn drillopt(args: &[&str]) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "drillopt {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// `drillopt solve` on `file` lands in the ranges its map gave, with every chance constraint
 /// satisfied (`drillopt batch problems` in CI checks every problem of the set the same way).
 fn solve_lands_in_the_expected_ranges(file: &Path) -> serde_json::Value {
     let e = Problem::load(file).unwrap().study.expect.unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
-        .args(["solve", file.to_str().unwrap(), "--quiet", "--out"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    drillopt(&[
+        "solve",
+        file.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
     let text = std::fs::read_to_string(dir.path().join("solution.json")).unwrap();
     let s: serde_json::Value = serde_json::from_str(&text).unwrap();
     let omega = s["optimum"]["omega_rad_s"].as_f64().unwrap();
@@ -261,19 +272,15 @@ const DNV_AIR_FIRST_BRANCH: [(&str, f64, f64); 3] = [
 /// (fatigue damage per hour, its largest bending moment in N·m).
 fn worst_section(file: &Path, omega_rpm: f64, v0_m_per_h: f64) -> (f64, f64) {
     let dir = tempfile::tempdir().unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
-        .args(["simulate", file.to_str().unwrap(), "--quiet"])
-        .arg(format!("--omega={omega_rpm}rpm"))
-        .arg(format!("--v0={v0_m_per_h}m/h"))
-        .arg("--out")
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    drillopt(&[
+        "simulate",
+        file.to_str().unwrap(),
+        "--quiet",
+        &format!("--omega={omega_rpm}rpm"),
+        &format!("--v0={v0_m_per_h}m/h"),
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
     let text = std::fs::read_to_string(dir.path().join("stress_envelope.csv")).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
