@@ -71,6 +71,8 @@ static_corrections = false
     assert_eq!(e.settling_time, Some(0.3));
     assert_eq!(e.samples, Some(2));
     assert_eq!(e.confirm, 3, "the default");
+    assert_eq!(e.max_confirm, 6, "the default: two rounds of confirm");
+    assert_eq!(e.separation, 0.05, "the default");
     let cheap = e.apply(&p);
     assert_eq!(cheap.simulation.duration, 0.8);
     assert_eq!(cheap.simulation.settling_time, 0.3);
@@ -90,10 +92,24 @@ static_corrections = false
     assert_eq!(cheap.study.optimizer, p.study.optimizer);
     assert_eq!(cheap.model, p.model);
     // Only the window given: the settling time is the full one's.
-    let p = load("[optimizer.explore]\nduration = 1.0\nconfirm = 5\n").unwrap();
+    let p = load("[optimizer.explore]\nduration = 1.0\nconfirm = 5\nseparation = 0\n").unwrap();
     let e = p.study.explore.clone().unwrap();
     assert_eq!(e.confirm, 5);
+    assert_eq!((e.max_confirm, e.separation), (10, 0.0));
+    // The default max_confirm stays in range; a given one is kept.
     assert_eq!(e.apply(&p).simulation.settling_time, 0.5);
+    let read = |extra: &str| load(extra).unwrap().study.explore.unwrap();
+    assert_eq!(
+        read("[optimizer.explore]\nduration = 1.0\nconfirm = 40\n").max_confirm,
+        50
+    );
+    let given = read(
+        "[optimizer.explore]\nduration = 1.0\nconfirm = 2\nmax_confirm = 9\nseparation = 0.2\n",
+    );
+    assert_eq!(
+        (given.confirm, given.max_confirm, given.separation),
+        (2, 9, 0.2)
+    );
     // Without the section: one fidelity.
     assert!(load("").unwrap().study.explore.is_none());
 }
@@ -196,6 +212,39 @@ fn confirm_is_checked_against_its_range() {
                 "optimizer.explore.confirm",
                 "[1, 50]",
                 &format!("got {bad}"),
+            ],
+        );
+    }
+}
+
+#[test]
+fn max_confirm_and_separation_are_checked_against_their_ranges() {
+    for (bad, range) in [("2", "[3, 50]"), ("51", "[3, 50]"), ("-1", "[3, 50]")] {
+        let e = error(&format!(
+            "[optimizer.explore]\nduration = 1.0\nconfirm = 3\nmax_confirm = {bad}\n"
+        ));
+        assert_names(
+            &e,
+            &[
+                "explore.toml",
+                "optimizer.explore.max_confirm",
+                range,
+                "at least confirm = 3",
+                &format!("got {bad}"),
+            ],
+        );
+    }
+    for bad in ["-0.1", "0.6", "nan", "inf"] {
+        let e = error(&format!(
+            "[optimizer.explore]\nduration = 1.0\nseparation = {bad}\n"
+        ));
+        assert_names(
+            &e,
+            &[
+                "explore.toml",
+                "optimizer.explore.separation",
+                "[0, 0.5]",
+                "fraction of the box",
             ],
         );
     }

@@ -120,7 +120,7 @@ fn candidates_are_confirmed_at_full_fidelity_and_the_optimum_is_the_best_of_them
             .all(|e| e["fidelity"] == "explore")
     );
 
-    // The confirmed points are the three best distinct feasible explore points.
+    // The confirmed points are the three best distinct feasible explore points…
     let key = |e: &Value| {
         (
             e["omega_rad_s"].as_f64().unwrap(),
@@ -139,7 +139,27 @@ fn candidates_are_confirmed_at_full_fidelity_and_the_optimum_is_the_best_of_them
             .partial_cmp(&a["objective"].as_f64())
             .unwrap()
     });
-    let picked: Vec<_> = ranked[..3].iter().map(|e| key(e)).collect();
+    // Then at least 5 % of the box apart (the default separation; Ω 30–150 rpm, V0 2–20 m/h),
+    // points passed over filling the count in rank order.
+    let unit = |e: &Value| {
+        (
+            (e["omega_rpm"].as_f64().unwrap() - 30.0) / 120.0,
+            (e["v0_m_per_h"].as_f64().unwrap() - 2.0) / 18.0,
+        )
+    };
+    let (mut apart, mut close): (Vec<&Value>, Vec<&Value>) = (Vec::new(), Vec::new());
+    for e in &ranked {
+        let (x, y) = unit(e);
+        if apart.iter().any(|a| {
+            let (ax, ay) = unit(a);
+            (x - ax).hypot(y - ay) < 0.05
+        }) {
+            close.push(e);
+        } else {
+            apart.push(e);
+        }
+    }
+    let picked: Vec<_> = apart.iter().chain(&close).take(3).map(|e| key(e)).collect();
     assert_eq!(full.iter().map(|e| key(e)).collect::<Vec<_>>(), picked);
 
     // The optimum is the best full-fidelity point, not the best explore one.
@@ -170,6 +190,12 @@ fn candidates_are_confirmed_at_full_fidelity_and_the_optimum_is_the_best_of_them
     assert_eq!(s["explore"]["duration_s"], 0.8);
     assert_eq!(s["explore"]["settling_time_s"], 0.3);
     assert_eq!(s["explore"]["confirm"], 3);
+    assert_eq!(s["explore"]["max_confirm"], 6);
+    assert_eq!(s["explore"]["separation"], 0.05);
+    assert_eq!(
+        s["confirmation"]["rounds"], 1,
+        "a feasible candidate in the first round"
+    );
     assert!(
         s["explore"]["basis"]
             .as_str()

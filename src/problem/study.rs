@@ -188,7 +188,10 @@ pub struct Constraints {
 // The [optimizer] section: one settings struct (and builder) per method.
 mod explore;
 mod optimizer;
-pub use explore::{CONFIRM, CONFIRM_RANGE, Explore, REFINE_RANGE, RawExplore};
+pub use explore::{
+    CONFIRM, CONFIRM_RANGE, Explore, MAX_CONFIRM_RANGE, MAX_CONFIRM_ROUNDS, REFINE_RANGE,
+    RawExplore, SEPARATION, SEPARATION_RANGE,
+};
 pub use optimizer::{
     EgoSettings, EgoSettingsBuilder, EgoTrustRegionSettings, EgoTrustRegionSettingsBuilder,
     GRID_POINTS, GridSettings, GridSettingsBuilder, INITIAL_DESIGN, LocalSearchSettings,

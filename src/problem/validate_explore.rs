@@ -6,7 +6,10 @@
 
 use super::Dimension::Time;
 use super::schema::BasisSection;
-use super::study::{CONFIRM, CONFIRM_RANGE, Explore, REFINE_RANGE, RawExplore, Study};
+use super::study::{
+    CONFIRM, CONFIRM_RANGE, Explore, MAX_CONFIRM_RANGE, MAX_CONFIRM_ROUNDS, REFINE_RANGE,
+    RawExplore, SEPARATION, SEPARATION_RANGE, Study,
+};
 use super::validate::{Checker, family_size};
 use crate::model::{BasisSpec, FamilySize, Mesh, Simulation};
 use crate::units::short;
@@ -56,6 +59,22 @@ pub(super) fn explore(
             }
         },
     };
+    let max_confirm = max_confirm(c, raw.max_confirm, confirm);
+    let separation = match raw.separation {
+        None => SEPARATION,
+        Some(d) if d.is_finite() && SEPARATION_RANGE.contains(&d) => d,
+        Some(d) => {
+            c.record(
+                &key("separation"),
+                format!(
+                    "must be a number in [{}, {}] (the least distance between two candidates, as a fraction of the box: Ω and V0 scaled by their bounds; 0 confirms near-duplicates), got {d}",
+                    SEPARATION_RANGE.start(),
+                    SEPARATION_RANGE.end()
+                ),
+            );
+            0.0
+        }
+    };
     let refine = match raw.refine {
         None => 0,
         Some(n) => match usize::try_from(n) {
@@ -91,8 +110,34 @@ pub(super) fn explore(
         samples,
         basis,
         confirm,
+        max_confirm,
+        separation,
         refine,
     })
+}
+
+/// `max_confirm`: the most candidates confirmed in all, at least `confirm` (0 when `confirm`
+/// was refused: then only the range is checked).
+fn max_confirm(c: &Checker, raw: Option<i64>, confirm: usize) -> usize {
+    let (least, most) = (
+        confirm.max(*MAX_CONFIRM_RANGE.start()),
+        *MAX_CONFIRM_RANGE.end(),
+    );
+    match raw {
+        None => (confirm * MAX_CONFIRM_ROUNDS).clamp(confirm, most),
+        Some(n) => match usize::try_from(n) {
+            Ok(n) if (least..=most).contains(&n) => n,
+            _ => {
+                c.record(
+                    &key("max_confirm"),
+                    format!(
+                        "must be an integer in [{least}, {most}], at least confirm = {confirm} (the most candidates confirmed at full fidelity in all: the next ones of the explore ranking are confirmed while none is feasible), got {n}"
+                    ),
+                );
+                0
+            }
+        },
+    }
 }
 
 /// `duration` and `settling_time`: the explore window, shorter than the full one, with its

@@ -20,8 +20,12 @@ pub struct ExploreJson {
     pub samples: Option<usize>,
     /// The explore basis, in words (as `numerical_check.basis`).
     pub basis: Option<String>,
-    /// Explore candidates re-evaluated at full fidelity.
+    /// Explore candidates re-evaluated at full fidelity per round.
     pub confirm: usize,
+    /// Most candidates confirmed in all (a further round only while none is feasible).
+    pub max_confirm: usize,
+    /// Least distance between two candidates, as a fraction of the box.
+    pub separation: f64,
     /// Most full-fidelity trust-region points after the confirmation (0: none).
     pub refine: usize,
 }
@@ -34,6 +38,8 @@ impl ExploreJson {
             samples: e.samples,
             basis: e.basis.as_ref().map(|b| b.to_string()),
             confirm: e.confirm,
+            max_confirm: e.max_confirm,
+            separation: e.separation,
             refine: e.refine,
         }
     }
@@ -64,6 +70,8 @@ pub struct ConfirmationJson {
     pub explore_best_v0_m_per_h: Option<f64>,
     pub explore_best_score: Option<f64>,
     pub candidates: Vec<CandidateJson>,
+    /// Rounds of confirmation (more than one: the earlier rounds had no feasible candidate).
+    pub rounds: usize,
     /// The full-fidelity trust-region refinement (`refine > 0`; null: none ran).
     pub refinement: Option<RefinementJson>,
 }
@@ -102,6 +110,7 @@ impl ConfirmationJson {
                         .map(|(f, e)| f - e),
                 })
                 .collect(),
+            rounds: c.rounds,
             refinement: c.refinement.as_ref().map(|r| RefinementJson {
                 evaluations: r.evaluations,
                 status: r.status,

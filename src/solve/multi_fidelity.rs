@@ -1,15 +1,19 @@
 //! Multi-fidelity solve (issue 16, item 2; `[optimizer.explore]`): the configured method
 //! explores on the cheap fidelity (a shorter window, fewer samples, a smaller basis), then the
-//! `confirm` best distinct explore candidates (feasible first, by explore score) are evaluated at
-//! the full fidelity in one batch, and the optimum reported is the best of those full-fidelity
-//! points. No refinement runs at full fidelity after the confirmation (not even for the trust
-//! region): the full fidelity evaluates exactly the confirmed candidates, so its cost is
-//! `confirm` × samples simulations, known before the run.
+//! `confirm` best separated explore candidates (feasible first, by explore score; at least
+//! `separation` apart in the unit box) are evaluated at the full fidelity in one batch. While
+//! none of the confirmed candidates is feasible at full fidelity, the next `confirm` of the
+//! ranking are confirmed, up to `max_confirm` in all (the cheap model may misjudge a constraint's
+//! boundary: its best points then cluster where the full fidelity is infeasible). The optimum
+//! reported is the best full-fidelity point, optionally refined by the trust region at full
+//! fidelity (`refine`). The full fidelity's cost is known before the run: at most
+//! (`max_confirm` + `refine`) × samples simulations.
 
 use super::{
-    SolveError, SolveOutcome, SolveStatus, StudyBlackBox, best_point, constraints_of, feasible_set,
-    solve,
+    Scaling, SolveError, SolveOutcome, SolveStatus, StudyBlackBox, best_point, constraints_of,
+    feasible_set, solve,
 };
+use crate::model::OperatingPoint;
 use crate::optimize::{IterateCallback, TrustRegionOptions, minimize_trust_region_after};
 use crate::problem::Problem;
 use crate::problem::study::Explore;
@@ -26,6 +30,9 @@ pub struct Confirmation {
     pub explore_best: Option<PointEvaluation>,
     /// The candidates in explore rank: each explore evaluation with its full-fidelity one.
     pub candidates: Vec<Candidate>,
+    /// Rounds of `confirm` candidates evaluated at full fidelity (more than one: the earlier
+    /// rounds had no feasible candidate).
+    pub rounds: usize,
     /// The full-fidelity trust-region refinement (None: `refine = 0`, or no confirmed candidate
     /// feasible to start from).
     pub refinement: Option<Refinement>,
@@ -62,10 +69,17 @@ fn same_point(a: &PointEvaluation, b: &PointEvaluation) -> bool {
     a.omega_rad_s.to_bits() == b.omega_rad_s.to_bits() && a.v0_m_s.to_bits() == b.v0_m_s.to_bits()
 }
 
-/// The `n` best distinct scored points of `points`: feasible before infeasible, then by score
-/// (highest first); a point evaluated twice counts once (its first evaluation), failed points
-/// (no score) are left out. Ties keep the evaluation order.
-pub fn candidates(points: &[PointEvaluation], n: usize) -> Vec<PointEvaluation> {
+/// The `n` best candidates of `points` in explore rank: feasible before infeasible, then by
+/// score (highest first; ties keep the evaluation order); a point evaluated twice counts once
+/// (its first evaluation), failed points (no score) are left out. A point closer than
+/// `separation` (Euclidean, in `scaling`'s unit box) to a better-ranked pick is passed over while
+/// separated points remain, then taken in rank order to fill the `n`.
+pub fn candidates(
+    points: &[PointEvaluation],
+    n: usize,
+    separation: f64,
+    scaling: &Scaling,
+) -> Vec<PointEvaluation> {
     let mut distinct: Vec<&PointEvaluation> = Vec::new();
     for p in points.iter().filter(|p| p.objective.is_some()) {
         if !distinct.iter().any(|q| same_point(q, p)) {
@@ -79,7 +93,48 @@ pub fn candidates(points: &[PointEvaluation], n: usize) -> Vec<PointEvaluation> 
                 .unwrap_or(std::cmp::Ordering::Equal),
         )
     });
-    distinct.into_iter().take(n).cloned().collect()
+    let unit = |p: &PointEvaluation| scaling.to_unit(p.op());
+    let mut picked: Vec<&PointEvaluation> = Vec::new();
+    let mut passed_over = Vec::new();
+    for p in distinct {
+        let x = unit(p);
+        let close = picked.iter().any(|q| {
+            let y = unit(q);
+            (x[0] - y[0]).hypot(x[1] - y[1]) < separation
+        });
+        if close {
+            passed_over.push(p);
+        } else {
+            picked.push(p);
+        }
+    }
+    picked
+        .into_iter()
+        .chain(passed_over)
+        .take(n)
+        .cloned()
+        .collect()
+}
+
+/// Rounds of `confirm` candidates of `ranking` evaluated by `evaluate` (the full fidelity), in
+/// rank order, until a confirmed one is feasible or the ranking is exhausted: the candidates
+/// confirmed, their full evaluations (in the same order) and the rounds run.
+fn confirm_in_rounds(
+    ranking: &[PointEvaluation],
+    confirm: usize,
+    mut evaluate: impl FnMut(&[OperatingPoint]) -> Vec<PointEvaluation>,
+) -> (Vec<PointEvaluation>, Vec<PointEvaluation>, usize) {
+    let mut confirmed: Vec<PointEvaluation> = Vec::new();
+    let mut rounds = 0;
+    let mut taken = 0;
+    while taken < ranking.len() && !confirmed.iter().any(|p| p.feasible) {
+        let round = &ranking[taken..(taken + confirm.max(1)).min(ranking.len())];
+        let ops: Vec<OperatingPoint> = round.iter().map(PointEvaluation::op).collect();
+        confirmed.extend(evaluate(&ops));
+        taken += round.len();
+        rounds += 1;
+    }
+    (ranking[..taken].to_vec(), confirmed, rounds)
 }
 
 /// The robust optimum of `problem` with `[optimizer.explore]`: its method on `explore` (the
@@ -123,13 +178,15 @@ pub fn solve_multi_fidelity(
         });
     }
     let explored = solve(explore.problem, explore, on_iterate)?;
-    let picks = candidates(&explored.evaluations, settings.confirm);
-    let ops: Vec<_> = picks.iter().map(PointEvaluation::op).collect();
-    let confirmed = if ops.is_empty() {
-        Vec::new()
-    } else {
-        full.evaluate(&ops)
-    };
+    let scaling = Scaling::of(constraints_of(problem)?);
+    let ranking = candidates(
+        &explored.evaluations,
+        settings.max_confirm,
+        settings.separation,
+        &scaling,
+    );
+    let (picks, confirmed, rounds) =
+        confirm_in_rounds(&ranking, settings.confirm, |ops| full.evaluate(ops));
     let mut best = best_point(&confirmed);
     let mut status = match (&best, explored.status) {
         (None, _) => SolveStatus::NoFeasiblePoint,
@@ -138,9 +195,17 @@ pub fn solve_multi_fidelity(
     };
     let feasible = confirmed.iter().filter(|p| p.feasible).count();
     let mut termination = format!(
-        "{} (explore fidelity); {} of the best explore candidates confirmed at full fidelity, {feasible} feasible",
+        "{} (explore fidelity); {} of the best explore candidates confirmed at full fidelity{}, {feasible} feasible",
         explored.termination,
-        picks.len()
+        picks.len(),
+        if rounds > 1 {
+            format!(
+                " in {rounds} rounds of up to {} (a round only while none was feasible)",
+                settings.confirm
+            )
+        } else {
+            String::new()
+        }
     );
     let radii = problem.study.optimizer.trust_radii();
     let (refined, refinement) = match (&best, radii) {
@@ -177,6 +242,7 @@ pub fn solve_multi_fidelity(
             explore_status: explored.status,
             explore_best: explored.best,
             candidates,
+            rounds,
             refinement,
         }),
     })
@@ -247,6 +313,14 @@ mod tests {
         }
     }
 
+    /// The unit box of `point`'s Ω (rad/s) over [10, 20] and V0 over [0, 0.01] m/s.
+    fn box10() -> Scaling {
+        Scaling {
+            omega: [10.0, 20.0],
+            v0: [0.0, 0.01],
+        }
+    }
+
     #[test]
     fn candidates_are_feasible_first_by_score_and_distinct() {
         let points = vec![
@@ -258,7 +332,7 @@ mod tests {
             point(14.0, Some(2.0), true),
         ];
         let omegas = |n| {
-            candidates(&points, n)
+            candidates(&points, n, 0.0, &box10())
                 .iter()
                 .map(|p| p.omega_rad_s)
                 .collect::<Vec<_>>()
@@ -266,6 +340,69 @@ mod tests {
         assert_eq!(omegas(3), [12.0, 14.0, 10.0]);
         // Feasible points exhausted: the infeasible one comes next, the failed one never.
         assert_eq!(omegas(10), [12.0, 14.0, 10.0, 11.0]);
-        assert_eq!(candidates(&points, 4)[0].objective, Some(3.0));
+        assert_eq!(
+            candidates(&points, 4, 0.0, &box10())[0].objective,
+            Some(3.0)
+        );
+    }
+
+    #[test]
+    fn candidates_closer_than_the_separation_come_after_the_separated_ones() {
+        // A cluster at 12–12.35 rad/s (unit x 0.2–0.235) and two points apart.
+        let points = vec![
+            point(12.0, Some(5.0), true),
+            point(12.2, Some(4.9), true),
+            point(12.35, Some(4.8), true),
+            point(16.0, Some(3.0), true),
+            point(19.0, Some(1.0), true),
+        ];
+        let omegas = |n, separation| {
+            candidates(&points, n, separation, &box10())
+                .iter()
+                .map(|p| p.omega_rad_s)
+                .collect::<Vec<_>>()
+        };
+        // 0.05 of the box = 0.5 rad/s: the cluster gives its best point, then 16 and 19.
+        assert_eq!(omegas(3, 0.05), [12.0, 16.0, 19.0]);
+        // Then the passed-over points in rank order fill the count.
+        assert_eq!(omegas(5, 0.05), [12.0, 16.0, 19.0, 12.2, 12.35]);
+        // 0.01 (0.1 rad/s): 12.2 is 0.02 from 12.0, 12.35 0.015 from 12.2: all kept.
+        assert_eq!(omegas(3, 0.01), [12.0, 12.2, 12.35]);
+        // 0.35: 16 is 0.4 from 12, 19 only 0.3 from 16: passed over.
+        assert_eq!(omegas(3, 0.35), [12.0, 16.0, 12.2]);
+    }
+
+    /// A full fidelity that finds the points below `limit` rad/s infeasible.
+    fn full_feasible_from(limit: f64) -> impl FnMut(&[OperatingPoint]) -> Vec<PointEvaluation> {
+        move |ops| {
+            ops.iter()
+                .map(|op| {
+                    let mut p = point(op.omega, Some(0.5), op.omega >= limit);
+                    p.fidelity = Fidelity::Full;
+                    p
+                })
+                .collect()
+        }
+    }
+
+    #[test]
+    fn further_rounds_are_confirmed_only_while_none_is_feasible() {
+        let ranking: Vec<_> = (0..7)
+            .map(|i| point(10.0 + i as f64, Some(9.0 - i as f64), true))
+            .collect();
+        // Feasible at full fidelity in the first round: one round.
+        let (picks, full, rounds) = confirm_in_rounds(&ranking, 3, full_feasible_from(0.0));
+        assert_eq!((picks.len(), full.len(), rounds), (3, 3, 1));
+        // The first round (10, 11, 12) infeasible, 13 feasible: a second round of 3, then stop.
+        let (picks, full, rounds) = confirm_in_rounds(&ranking, 3, full_feasible_from(13.0));
+        assert_eq!((picks.len(), full.len(), rounds), (6, 6, 2));
+        assert!(picks.iter().zip(&full).all(|(e, f)| same_point(e, f)));
+        assert_eq!(full.iter().filter(|p| p.feasible).count(), 3);
+        // Nothing feasible: the whole ranking (the last round short), and no more.
+        let (picks, full, rounds) = confirm_in_rounds(&ranking, 3, full_feasible_from(99.0));
+        assert_eq!((picks.len(), full.len(), rounds), (7, 7, 3));
+        // An empty ranking: no round.
+        let (_, full, rounds) = confirm_in_rounds(&[], 3, full_feasible_from(0.0));
+        assert_eq!((full.len(), rounds), (0, 0));
     }
 }

@@ -26,6 +26,10 @@ pub struct RawExplore {
     pub samples: Option<i64>,
     /// Explore candidates re-evaluated at full fidelity.
     pub confirm: Option<i64>,
+    /// Most candidates confirmed in all, when none of the first `confirm` is feasible.
+    pub max_confirm: Option<i64>,
+    /// Least distance between two candidates, as a fraction of the box (unit-box coordinates).
+    pub separation: Option<f64>,
     /// Full-fidelity design points of a trust-region refinement from the best confirmed point.
     pub refine: Option<i64>,
     /// `[optimizer.explore.basis]`: the explore basis, keys of `[mesh.basis]`.
@@ -36,6 +40,17 @@ pub struct RawExplore {
 pub const CONFIRM: usize = 3;
 /// Legal range of `optimizer.explore.confirm`.
 pub const CONFIRM_RANGE: std::ops::RangeInclusive<usize> = 1..=50;
+/// Legal range of `optimizer.explore.max_confirm` (at least `confirm`).
+pub const MAX_CONFIRM_RANGE: std::ops::RangeInclusive<usize> = 1..=50;
+/// `max_confirm` when not given: `confirm` times this (one more round of candidates), at most
+/// the end of [`MAX_CONFIRM_RANGE`].
+pub const MAX_CONFIRM_ROUNDS: usize = 2;
+/// `separation` when not given: 5 % of the box (4 rpm and 1.4 m/h on a 40–120 rpm × 2–30 m/h
+/// box), about the trust region's `min_radius` scale, so one cluster gives one candidate.
+pub const SEPARATION: f64 = 0.05;
+/// Legal range of `optimizer.explore.separation` (0: exact duplicates only; the unit box's
+/// diagonal is √2).
+pub const SEPARATION_RANGE: std::ops::RangeInclusive<f64> = 0.0..=0.5;
 /// Legal range of `optimizer.explore.refine` (0: no refinement, the default).
 pub const REFINE_RANGE: std::ops::RangeInclusive<usize> = 0..=1000;
 
@@ -56,6 +71,14 @@ pub struct Explore {
     /// Distinct explore candidates re-evaluated at full fidelity; default [`CONFIRM`], in
     /// [`CONFIRM_RANGE`].
     pub confirm: usize,
+    /// Most candidates confirmed in all: while no confirmed candidate is feasible at full
+    /// fidelity, the next `confirm` of the explore ranking are confirmed, until `max_confirm`.
+    /// Default `confirm` × [`MAX_CONFIRM_ROUNDS`] (at most 50); in [`confirm`, 50].
+    pub max_confirm: usize,
+    /// Least Euclidean distance between two candidates in the unit box (Ω and V0 scaled by
+    /// their bounds): a point closer than this to a better-ranked candidate is confirmed only
+    /// after every separated one. Default [`SEPARATION`], in [`SEPARATION_RANGE`].
+    pub separation: f64,
     /// Full-fidelity design points of a trust-region refinement from the best confirmed point
     /// (the confirmed candidates in its models, the method's `initial_radius` and `min_radius`);
     /// 0 (the default): none. In [`REFINE_RANGE`]; above 0 only for `method = "trust_region"` or
@@ -104,6 +127,15 @@ impl Explore {
             parts.push(format!("basis {b}"));
         }
         parts.push(format!("{} confirmed", self.confirm));
+        if self.max_confirm > self.confirm {
+            parts.push(format!("up to {} if none is feasible", self.max_confirm));
+        }
+        if self.separation > 0.0 {
+            parts.push(format!(
+                "candidates {} % of the box apart",
+                crate::units::short(100.0 * self.separation)
+            ));
+        }
         if self.refine > 0 {
             parts.push(format!(
                 "then at most {} full-fidelity trust-region points",
