@@ -251,6 +251,64 @@ fn max_confirm_and_separation_are_checked_against_their_ranges() {
 }
 
 #[test]
+fn a_margin_tightens_the_chance_thresholds_at_the_explore_fidelity_only() {
+    let chance = r#"
+[[constraints.chance]]
+metric = "max_von_mises_pa"
+threshold = "200 MPa"
+max_probability = 0.1
+[[constraints.chance]]
+metric = "impacts_per_s"
+threshold = 0
+max_probability = 0.5
+"#;
+    let p = load(&format!(
+        "{chance}[optimizer.explore]\nduration = 1.0\nmargin = 0.1\n"
+    ))
+    .unwrap();
+    let e = p.study.explore.clone().unwrap();
+    assert_eq!(e.margin, 0.1);
+    let thresholds = |p: &Problem| -> Vec<f64> {
+        let c = p.study.constraints.as_ref().unwrap();
+        c.chance.iter().map(|c| c.threshold).collect()
+    };
+    // 200 MPa − 10 % = 180 MPa at the explore fidelity; 0 stays 0; the full problem unchanged.
+    let explore = thresholds(&e.apply(&p));
+    assert!((explore[0] - 180e6).abs() < 1e-6, "{explore:?}");
+    assert_eq!(explore[1], 0.0);
+    assert_eq!(thresholds(&p), [200e6, 0.0]);
+    // The default: the thresholds as written.
+    let p = load(&format!("{chance}[optimizer.explore]\nduration = 1.0\n")).unwrap();
+    let e = p.study.explore.clone().unwrap();
+    assert_eq!(e.margin, 0.0);
+    assert_eq!(thresholds(&e.apply(&p)), [200e6, 0.0]);
+    // Out of range, or with nothing to tighten: refused, naming the key.
+    for bad in ["-0.1", "0.6", "nan"] {
+        let msg = error(&format!(
+            "{chance}[optimizer.explore]\nduration = 1.0\nmargin = {bad}\n"
+        ));
+        assert_names(
+            &msg,
+            &[
+                "explore.toml",
+                "optimizer.explore.margin",
+                "[0, 0.5]",
+                "tightened",
+            ],
+        );
+    }
+    let msg = error("[optimizer.explore]\nduration = 1.0\nmargin = 0.1\n");
+    assert_names(
+        &msg,
+        &[
+            "optimizer.explore.margin",
+            "no [[constraints.chance]]",
+            "got 0.1",
+        ],
+    );
+}
+
+#[test]
 fn refine_is_a_trust_region_budget_in_range() {
     let p = load("[optimizer.explore]\nduration = 1.0\nrefine = 6\n").unwrap();
     assert_eq!(p.study.explore.unwrap().refine, 6);

@@ -189,8 +189,8 @@ pub struct Constraints {
 mod explore;
 mod optimizer;
 pub use explore::{
-    CONFIRM, CONFIRM_RANGE, Explore, MAX_CONFIRM_RANGE, MAX_CONFIRM_ROUNDS, REFINE_RANGE,
-    RawExplore, SEPARATION, SEPARATION_RANGE,
+    CONFIRM, CONFIRM_RANGE, Explore, MARGIN_RANGE, MAX_CONFIRM_RANGE, MAX_CONFIRM_ROUNDS,
+    REFINE_RANGE, RawExplore, SEPARATION, SEPARATION_RANGE,
 };
 pub use optimizer::{
     EgoSettings, EgoSettingsBuilder, EgoTrustRegionSettings, EgoTrustRegionSettingsBuilder,

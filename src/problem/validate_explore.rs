@@ -7,8 +7,8 @@
 use super::Dimension::Time;
 use super::schema::BasisSection;
 use super::study::{
-    CONFIRM, CONFIRM_RANGE, Explore, MAX_CONFIRM_RANGE, MAX_CONFIRM_ROUNDS, REFINE_RANGE,
-    RawExplore, SEPARATION, SEPARATION_RANGE, Study,
+    CONFIRM, CONFIRM_RANGE, Explore, MARGIN_RANGE, MAX_CONFIRM_RANGE, MAX_CONFIRM_ROUNDS,
+    REFINE_RANGE, RawExplore, SEPARATION, SEPARATION_RANGE, Study,
 };
 use super::validate::{Checker, family_size};
 use crate::model::{BasisSpec, FamilySize, Mesh, Simulation};
@@ -75,6 +75,36 @@ pub(super) fn explore(
             0.0
         }
     };
+    let margin = match raw.margin {
+        None => 0.0,
+        Some(m) if m.is_finite() && MARGIN_RANGE.contains(&m) => {
+            if m > 0.0
+                && study
+                    .constraints
+                    .as_ref()
+                    .is_none_or(|c| c.chance.is_empty())
+            {
+                c.record(
+                    &key("margin"),
+                    format!(
+                        "tightens the chance constraints' thresholds at the explore fidelity, and the problem has no [[constraints.chance]]; remove the key, got {m}"
+                    ),
+                );
+            }
+            m
+        }
+        Some(m) => {
+            c.record(
+                &key("margin"),
+                format!(
+                    "must be a number in [{}, {}] (the fraction by which each chance constraint's threshold is tightened at the explore fidelity; 0: as written), got {m}",
+                    MARGIN_RANGE.start(),
+                    MARGIN_RANGE.end()
+                ),
+            );
+            0.0
+        }
+    };
     let refine = match raw.refine {
         None => 0,
         Some(n) => match usize::try_from(n) {
@@ -112,6 +142,7 @@ pub(super) fn explore(
         confirm,
         max_confirm,
         separation,
+        margin,
         refine,
     })
 }

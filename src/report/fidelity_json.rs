@@ -26,6 +26,8 @@ pub struct ExploreJson {
     pub max_confirm: usize,
     /// Least distance between two candidates, as a fraction of the box.
     pub separation: f64,
+    /// Fraction by which the chance thresholds are tightened at the explore fidelity.
+    pub margin: f64,
     /// Most full-fidelity trust-region points after the confirmation (0: none).
     pub refine: usize,
 }
@@ -40,6 +42,7 @@ impl ExploreJson {
             confirm: e.confirm,
             max_confirm: e.max_confirm,
             separation: e.separation,
+            margin: e.margin,
             refine: e.refine,
         }
     }

@@ -30,6 +30,8 @@ pub struct RawExplore {
     pub max_confirm: Option<i64>,
     /// Least distance between two candidates, as a fraction of the box (unit-box coordinates).
     pub separation: Option<f64>,
+    /// Fraction by which the chance constraints' thresholds are tightened at the explore fidelity.
+    pub margin: Option<f64>,
     /// Full-fidelity design points of a trust-region refinement from the best confirmed point.
     pub refine: Option<i64>,
     /// `[optimizer.explore.basis]`: the explore basis, keys of `[mesh.basis]`.
@@ -51,6 +53,8 @@ pub const SEPARATION: f64 = 0.05;
 /// Legal range of `optimizer.explore.separation` (0: exact duplicates only; the unit box's
 /// diagonal is √2).
 pub const SEPARATION_RANGE: std::ops::RangeInclusive<f64> = 0.0..=0.5;
+/// Legal range of `optimizer.explore.margin` (0, the default: the thresholds as written).
+pub const MARGIN_RANGE: std::ops::RangeInclusive<f64> = 0.0..=0.5;
 /// Legal range of `optimizer.explore.refine` (0: no refinement, the default).
 pub const REFINE_RANGE: std::ops::RangeInclusive<usize> = 0..=1000;
 
@@ -79,6 +83,13 @@ pub struct Explore {
     /// their bounds): a point closer than this to a better-ranked candidate is confirmed only
     /// after every separated one. Default [`SEPARATION`], in [`SEPARATION_RANGE`].
     pub separation: f64,
+    /// Feasibility margin of the exploration: each chance constraint P(metric > threshold) ≤ p
+    /// is judged at the explore fidelity against threshold − margin·|threshold| (the full
+    /// fidelity keeps the threshold as written). A few explore samples estimate a probability
+    /// of 0.1 coarsely (with 4 samples only "none exceeds" passes, which a point with p = 0.16
+    /// does half the time), so the explore ranking is kept away from the boundary. Default 0, in
+    /// [`MARGIN_RANGE`]; a threshold of 0 is not moved.
+    pub margin: f64,
     /// Full-fidelity design points of a trust-region refinement from the best confirmed point
     /// (the confirmed candidates in its models, the method's `initial_radius` and `min_radius`);
     /// 0 (the default): none. In [`REFINE_RANGE`]; above 0 only for `method = "trust_region"` or
@@ -92,7 +103,7 @@ impl Explore {
     /// evaluation-cache key of its simulations ([`crate::study::model_hash`]) differs from the
     /// full problem's whenever the window or the basis does; with only fewer samples the
     /// simulations are the full fidelity's own (sample i is the same draw) and share its cache
-    /// entries.
+    /// entries (the `margin` moves the chance thresholds, which no simulation depends on).
     pub fn apply(&self, full: &Problem) -> Problem {
         let mut p = full.clone();
         if let Some(d) = self.duration {
@@ -106,6 +117,11 @@ impl Explore {
         }
         if let Some(b) = &self.basis {
             p.mesh.basis = b.clone();
+        }
+        if let Some(c) = p.study.constraints.as_mut() {
+            for chance in &mut c.chance {
+                chance.threshold -= self.margin * chance.threshold.abs();
+            }
         }
         p.study.explore = None;
         p
@@ -129,6 +145,12 @@ impl Explore {
         parts.push(format!("{} confirmed", self.confirm));
         if self.max_confirm > self.confirm {
             parts.push(format!("up to {} if none is feasible", self.max_confirm));
+        }
+        if self.margin > 0.0 {
+            parts.push(format!(
+                "chance thresholds tightened by {} %",
+                crate::units::short(100.0 * self.margin)
+            ));
         }
         if self.separation > 0.0 {
             parts.push(format!(
