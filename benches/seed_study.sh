@@ -3,7 +3,7 @@
 # fresh temporary output directory with every core of the machine, then wall time, simulations,
 # the optimum, its objective with a confidence interval, and the solve's status.
 #
-#   benches/seed_study.sh                                   # the benchmark: 32 samples, 30 points
+#   benches/seed_study.sh                                   # the benchmark (multi-fidelity: 30 explore points, 32 full samples per candidate)
 #   benches/seed_study.sh --samples 2 --budget 16 --threads 1   # a small check of the script
 #
 # Options (all optional):
@@ -11,6 +11,8 @@
 #   --duration S   a copy of the problem with [simulation] duration = S seconds (study commands
 #                  have no --duration: the window enters the model hash); NOT the benchmark
 #   --problem FILE another problem (default problems/bench/seed_study.toml)
+#   --single-fidelity  a copy of the problem without its [optimizer.explore] section (the study at
+#                  the full fidelity only: the figure before multi-fidelity)
 #   --keep         keep the output directory (printed) instead of deleting it
 # DRILLOPT=path/to/drillopt uses that binary; otherwise `cargo build --release` (untimed) and
 # target/release/drillopt. Needs python3 (the summary reads solution.json and evaluations.csv).
@@ -21,6 +23,7 @@ problem="$root/problems/bench/seed_study.toml"
 threads="$(nproc)"
 duration=""
 keep=0
+single=0
 pass=()
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -29,7 +32,8 @@ while [ $# -gt 0 ]; do
         --duration) duration="$2"; shift 2 ;;
         --problem) problem="$(realpath "$2")"; shift 2 ;;
         --keep) keep=1; shift ;;
-        -h | --help) sed -n '2,15p' "$0"; exit 0 ;;
+        --single-fidelity) single=1; shift ;;
+        -h | --help) sed -n '2,17p' "$0"; exit 0 ;;
         *) echo "seed_study.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
     esac
 done
@@ -52,6 +56,18 @@ if [ -n "$duration" ]; then
         section == "[simulation]" && /^duration *=/ { print "duration = \"" d " s\"   # seed_study.sh --duration"; next }
         { print }' "$problem" >"$run_problem"
     grep -q 'seed_study.sh --duration' "$run_problem" || { echo "no [simulation] duration in $problem" >&2; exit 2; }
+fi
+
+if [ "$single" = 1 ]; then
+    # The same file without its [optimizer.explore] tables (up to the next table that is not one).
+    cp "$run_problem" "$out/with_explore.toml"
+    run_problem="$out/single_fidelity_$(basename "$problem")"
+    awk '
+        /^\[/ { skip = ($0 ~ /^\[optimizer\.explore(\.basis)?\]/) }
+        !skip { print }' "$out/with_explore.toml" >"$run_problem"
+    if grep -q '^\[optimizer\.explore' "$run_problem" || cmp -s "$run_problem" "$out/with_explore.toml"; then
+        echo "--single-fidelity: no [optimizer.explore] section in $problem" >&2; exit 2
+    fi
 fi
 
 cmd=("$DRILLOPT" solve "$run_problem" --out "$out/solve" --threads "$threads" ${pass[@]+"${pass[@]}"})
@@ -116,7 +132,17 @@ def score(obj, samples):
     return value
 
 print(f"wall time:   {wall:.1f} s (solve's own: {w['wall_time_s']:.1f} s; peak memory {peak_mb:.0f} MB; {w['executor']})")
-print(f"simulations: {len(rows)} rows of evaluations.csv = {points} points × {w['samples_per_point']} samples "
+by = w.get("by_fidelity") or {}
+if by:  # multi-fidelity: rows per fidelity (the last column of evaluations.csv)
+    parts = []
+    for f in ("explore", "full"):
+        n = sum(1 for r in rows if r["fidelity"] == f)
+        k = len({(r["omega [rpm]"], r["v0 [m/h]"]) for r in rows if r["fidelity"] == f})
+        parts.append(f"{f} {n} = {k} points × {by[f]['samples_per_point']} samples")
+    shape = "; ".join(parts)
+else:
+    shape = f"{points} points × {w['samples_per_point']} samples"
+print(f"simulations: {len(rows)} rows of evaluations.csv ({shape}) "
       f"({w['simulations_run']} run, {w['simulations_from_cache']} from the cache, {w['simulations_failed']} failed), "
       f"{wall / max(w['simulations_run'], 1):.2f} s of wall time per simulation run "
       f"(with the numerical check at the optimum; × threads: {wall * threads / max(w['simulations_run'], 1):.2f} core·s)")
