@@ -3,6 +3,7 @@
 //! [`crate::model::wall`], [`crate::model::bit`]), the recorded time history, and the run itself.
 
 mod contact;
+mod contact_tangent;
 mod dynamics;
 mod envelope;
 mod fatigue;
