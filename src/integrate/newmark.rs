@@ -6,6 +6,9 @@
 //! accepted, so the system's last residual evaluation was at a state within the Newton tolerance
 //! of the accepted one (observers may use it: see `Dynamics::observe_step`).
 //!
+//! Newton starts from q̈₁ extrapolated through the accelerations of the last accepted steps
+//! (see `Newmark::extrapolate_acceleration`).
+//!
 //! Local error estimate (Zienkiewicz & Xie 1991): e = (β − 1/6) h² (q̈₁ − q̈₀), reported as
 //! ‖W e‖ / (atol + rtol ‖W q₁‖) with per-coordinate weights W (for modal coordinates, W = ω_i makes
 //! these energy norms, so stiff modes of small amplitude but large energy are controlled too);
@@ -102,6 +105,9 @@ pub struct Newmark {
     factored: Option<(f64, f64)>,
     /// Jacobian factorisations so far (cost accounting).
     pub factorizations: usize,
+    /// q̈ at the starts of the last two accepted steps and their lengths, newest first (for the
+    /// Newton predictor; a length is `None` until that many steps were accepted).
+    history: [(DVector<f64>, Option<f64>); 2],
     /// The norm of the error and Newton tests.
     norm: ErrorNorm,
 }
@@ -171,6 +177,7 @@ impl Newmark {
             stale: true,
             factored: None,
             factorizations: 0,
+            history: [(DVector::zeros(n), None), (DVector::zeros(n), None)],
             norm: ErrorNorm::Weighted(DVector::from_element(n, 1.0)),
         }
     }
@@ -236,7 +243,7 @@ impl Newmark {
     pub fn attempt<S: ImplicitSystem>(&mut self, sys: &mut S, h: f64) -> StepOutcome {
         let (cq, cv) = (BETA * h * h, GAMMA * h);
         let t1 = self.t + h;
-        copy_vector(&mut self.a1, &self.a);
+        self.extrapolate_acceleration(h);
         for i in 0..self.q.len() {
             let (q, v, a) = (self.q[i], self.v[i], self.a[i]);
             self.qp[i] = q + h * v + h * h * (0.5 - BETA) * a;
@@ -353,6 +360,34 @@ impl Newmark {
         (BETA - 1.0 / 6.0).abs() * h * h * change / (s.atol + s.rtol * size)
     }
 
+    /// The Newton start a1 for a step of length h: the quadratic through q̈ at the last three
+    /// accepted times t − h₁ − h₂, t − h₁, t, evaluated at t + h (Lagrange form), or q̈(t) until
+    /// two steps were accepted. It changes where Newton starts, not what it converges to (within
+    /// its tolerance). Measured on the study benchmark (`problems/bench/seed_study.toml`, 10 s):
+    /// 139 002 Newton iterations (2.14 per step) against 168 636 (2.60) from the constant q̈(t),
+    /// 147 514 from the linear extrapolation through two points; wall time 8.8–9.0 s against
+    /// 10.0–10.5 s; the stick-slip statistics within 0.9 %, the means within 1e-4 of those of the
+    /// constant start (verify's tolerances: 10 %, 2 %).
+    fn extrapolate_acceleration(&mut self, h: f64) {
+        let [(a_1, h1), (a_2, h2)] = &self.history;
+        let (Some(h1), Some(h2)) = (*h1, *h2) else {
+            copy_vector(&mut self.a1, &self.a);
+            return;
+        };
+        let l0 = (h + h1) * (h + h1 + h2) / (h1 * (h1 + h2));
+        let l1 = -h * (h + h1 + h2) / (h1 * h2);
+        let l2 = h * (h + h1) / ((h1 + h2) * h2);
+        let past = self
+            .a
+            .as_slice()
+            .iter()
+            .zip(a_1.as_slice())
+            .zip(a_2.as_slice());
+        for (a1, ((a0, a_1), a_2)) in self.a1.as_mut_slice().iter_mut().zip(past) {
+            *a1 = l0 * a0 + l1 * a_1 + l2 * a_2;
+        }
+    }
+
     /// q1, v1 from the trial acceleration a1 (cq = βh², cv = γh).
     fn predict(&mut self, cq: f64, cv: f64) {
         let (q1, v1) = (self.q1.as_mut_slice(), self.v1.as_mut_slice());
@@ -366,6 +401,9 @@ impl Newmark {
     /// Make the trial state current after a successful attempt of length h.
     pub fn accept(&mut self, h: f64) {
         self.t += h;
+        self.history.swap(0, 1);
+        copy_vector(&mut self.history[0].0, &self.a);
+        self.history[0].1 = Some(h);
         copy_vector(&mut self.q, &self.q1);
         copy_vector(&mut self.v, &self.v1);
         copy_vector(&mut self.a, &self.a1);

@@ -8,6 +8,7 @@
 //! spin angle out of the strain evaluation avoids cancellation. Nonlinear forces are computed on
 //! the full mesh and projected (Φᵀ).
 
+use super::contact_tangent::ContactTangent;
 use super::{BitLoad, NodeContact, wall_contact};
 use crate::fem::{Dof, ElementVector};
 use crate::integrate::{ImplicitSystem, JacobianCoefficients, copy_vector};
@@ -82,8 +83,8 @@ pub struct Dynamics<'m> {
     attempt: Option<(f64, f64)>,
     attempt_modal: [DVector<f64>; 2],
     attempt_full: [DVector<f64>; 2],
-    /// Dense rows of Φ for a contact node's v and w DOFs (Jacobian work vectors).
-    contact_rows: [DVector<f64>; 2],
+    /// The wall-contact part of the Jacobian (gathered rows of the touching nodes).
+    contact_tangent: ContactTangent,
     blocks: BlockWork,
     /// The modal state (q, q̇, q̈) of the full-mesh vectors and forces above, and the element
     /// energies there: strain energy U and nonlinear kinetic energy T_nl, J.
@@ -121,7 +122,7 @@ impl<'m> Dynamics<'m> {
             attempt: None,
             attempt_modal: [DVector::zeros(n), DVector::zeros(n)],
             attempt_full: [DVector::zeros(ndof), DVector::zeros(ndof)],
-            contact_rows: [DVector::zeros(n), DVector::zeros(n)],
+            contact_tangent: ContactTangent::new(&model.sparse, model.nodes(), n),
             blocks: model.blocks.workspace(),
             evaluated: [
                 DVector::from_element(n, f64::NAN),
@@ -496,8 +497,9 @@ impl ImplicitSystem for Dynamics<'_> {
         m.mass.add_to(c.ca, out);
         // Wall contact at the nodes touching, from the last residual evaluation: −∂F/∂(q, q̇),
         // a rank-two term P W Pᵀ per node with P = [φ(v), φ(w)] (the rows of Φ for the node's
-        // lateral DOFs), added densely column by column (vectorised).
+        // lateral DOFs), gathered and added in one pass over the matrix (see ContactTangent).
         let phi = &m.sparse;
+        self.contact_tangent.clear();
         for (node, k) in self.contacts.iter().enumerate() {
             if !k.active {
                 continue;
@@ -507,27 +509,9 @@ impl ImplicitSystem for Dynamics<'_> {
                     -(c.cq * k.stiffness[a_][b] + c.cv * k.damping[a_][b])
                 })
             });
-            let [pv, pw] = &mut self.contact_rows;
-            for (p, dof) in [(&mut *pv, Dof::V.at(node)), (&mut *pw, Dof::W.at(node))] {
-                p.as_mut_slice().fill(0.0);
-                let (modes, values) = phi.dof(dof);
-                for (&j, &x) in modes.iter().zip(values) {
-                    p[j] = x;
-                }
-            }
-            let (pv, pw) = (pv.as_slice(), pw.as_slice());
-            let rows = out.nrows();
-            for (j, column) in out.as_mut_slice().chunks_exact_mut(rows).enumerate() {
-                // Row j of W Pᵀ.
-                let b0 = w[0][0] * pv[j] + w[0][1] * pw[j];
-                let b1 = w[1][0] * pv[j] + w[1][1] * pw[j];
-                if b0 != 0.0 || b1 != 0.0 {
-                    for ((x, &p0), &p1) in column.iter_mut().zip(pv).zip(pw) {
-                        *x += p0 * b0 + p1 * b1;
-                    }
-                }
-            }
+            self.contact_tangent.push(phi, node, w);
         }
+        self.contact_tangent.add_to(out);
         // Bit: −∂(F, T)/∂(u̇, θ̇) at the bit node.
         let bit_node = m.elements();
         let (iu, it) = (Dof::U.at(bit_node), Dof::ThetaX.at(bit_node));
