@@ -41,7 +41,9 @@ pub struct NumericalCheck {
 /// The metric keys the problem's score and constraints depend on: the objective's quantity
 /// (`mean_rop_m_per_h`; efficiency and MSE bring the WOB, TOB and ROP they are computed from,
 /// MSE = WOB/A + 2π N·TOB/(A·ROP), Teale 1965), every risk term's and every chance constraint's
-/// metric.
+/// metric. A metric computed from another brings that one: `von_mises_utilization` (peak von
+/// Mises stress / yield strength) and `von_mises_safety_factor` (its inverse) bring
+/// `max_von_mises_pa`, which the basis check compares.
 pub fn metrics_used(problem: &Problem) -> BTreeSet<String> {
     use crate::problem::study::Quantity;
     let study = &problem.study;
@@ -62,6 +64,9 @@ pub fn metrics_used(problem: &Problem) -> BTreeSet<String> {
     for m in named {
         if matches!(m, "mse_pa" | "efficiency") {
             used.extend(mechanics.map(String::from));
+        }
+        if matches!(m, "von_mises_utilization" | "von_mises_safety_factor") {
+            used.insert("max_von_mises_pa".to_string());
         }
         used.insert(m.to_string());
     }
@@ -162,5 +167,17 @@ mod tests {
             assert!(fatigue.contains(key), "{key}: {fatigue:?}");
         }
         assert!(!fatigue.contains("stick_slip_severity"), "{fatigue:?}");
+        // A chance constraint on the von Mises utilization: the peak stress it is computed from.
+        let study = used("problems/bench/seed_study.toml");
+        for key in [
+            "von_mises_utilization",
+            "max_von_mises_pa",
+            "stick_slip_severity",
+            "bit_damping_ratio",
+        ] {
+            assert!(study.contains(key), "{key}: {study:?}");
+        }
+        assert!(!study.contains("mean_wob_n"), "{study:?}");
+        assert!(!fatigue.contains("max_von_mises_pa"), "{fatigue:?}");
     }
 }
