@@ -4,7 +4,8 @@
 # the optimum, its objective with a confidence interval, and the solve's status.
 #
 #   benches/seed_study.sh                                   # the benchmark (multi-fidelity: 30 explore points, 32 full samples per candidate)
-#   benches/seed_study.sh --samples 2 --budget 16 --threads 1   # a small check of the script
+#   benches/seed_study.sh --samples 5 --budget 16 --threads 1   # a small check of the script
+#                  (--samples must exceed the explore's 4; --single-fidelity --samples 2 also works)
 #
 # Options (all optional):
 #   --samples N, --budget N, --threads N   passed to `drillopt solve` (default threads: nproc)
@@ -33,7 +34,7 @@ while [ $# -gt 0 ]; do
         --problem) problem="$(realpath "$2")"; shift 2 ;;
         --keep) keep=1; shift ;;
         --single-fidelity) single=1; shift ;;
-        -h | --help) sed -n '2,17p' "$0"; exit 0 ;;
+        -h | --help) sed -n '2,19p' "$0"; exit 0 ;;
         *) echo "seed_study.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
     esac
 done

@@ -67,7 +67,7 @@ pub(super) fn explore(
             c.record(
                 &key("separation"),
                 format!(
-                    "must be a number in [{}, {}] (the least distance between two candidates, as a fraction of the box: Ω and V0 scaled by their bounds; 0 confirms near-duplicates), got {d}",
+                    "must be a number in [{}, {}] (the least distance between two candidates, as a fraction of the box: Ω and V0 scaled by their bounds; 0 separates exact duplicates only), got {d}",
                     SEPARATION_RANGE.start(),
                     SEPARATION_RANGE.end()
                 ),

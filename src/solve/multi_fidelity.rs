@@ -200,7 +200,7 @@ pub fn solve_multi_fidelity(
         picks.len(),
         if rounds > 1 {
             format!(
-                " in {rounds} rounds of up to {} (a round only while none was feasible)",
+                " in {rounds} rounds, {} per round (a further round only while none was feasible)",
                 settings.confirm
             )
         } else {
