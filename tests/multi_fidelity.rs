@@ -72,6 +72,22 @@ fn run(args: &[&str]) {
 }
 
 /// `summary.json`'s metrics of `drillopt simulate file` at (ω rad/s, v m/s), exactly that point.
+/// `drillopt solve FILE` on one thread into `dir/solve`: that folder and its `solution.json`.
+fn solve(dir: &Path, file: &str) -> (std::path::PathBuf, Value) {
+    let out = dir.join("solve");
+    run(&[
+        "solve",
+        file,
+        "--threads",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let s = json(&out.join("solution.json"));
+    (out, s)
+}
+
 fn simulate(file: &str, omega: f64, v0: f64, out: &Path) -> Value {
     let (w, v) = (format!("{omega:?} rad/s"), format!("{v0:?} m/s"));
     let out_s = out.to_str().unwrap();
@@ -96,17 +112,7 @@ const DYNAMICS: [&str; 6] = [
 fn candidates_are_confirmed_at_full_fidelity_and_the_optimum_is_the_best_of_them() {
     let dir = tempfile::tempdir().unwrap();
     let file = problem_file(dir.path(), "mf", &[], EXPLORE);
-    let out = dir.path().join("solve");
-    run(&[
-        "solve",
-        &file,
-        "--threads",
-        "1",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let s = json(&out.join("solution.json"));
+    let (out, s) = solve(dir.path(), &file);
     let evals = s["evaluations"].as_array().unwrap();
     let of = |f: &str| -> Vec<&Value> { evals.iter().filter(|e| e["fidelity"] == f).collect() };
     let (explore, full) = (of("explore"), of("full"));
@@ -252,17 +258,7 @@ fn a_refinement_continues_at_full_fidelity_from_the_best_confirmed_point() {
         &[],
         &EXPLORE.replace("confirm = 3\n", "confirm = 3\nrefine = 6\n"),
     );
-    let out = dir.path().join("solve");
-    run(&[
-        "solve",
-        &file,
-        "--threads",
-        "1",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let s = json(&out.join("solution.json"));
+    let (_, s) = solve(dir.path(), &file);
     let evals = s["evaluations"].as_array().unwrap();
     let full: Vec<&Value> = evals.iter().filter(|e| e["fidelity"] == "full").collect();
     let refinement = &s["confirmation"]["refinement"];
@@ -307,17 +303,7 @@ fn explore_with_fewer_samples_shares_the_full_fidelitys_simulations() {
         .map(|l| format!("{l}\n"))
         .collect();
     std::fs::write(&file, text).unwrap();
-    let out = dir.path().join("solve");
-    run(&[
-        "solve",
-        &file,
-        "--threads",
-        "1",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let s = json(&out.join("solution.json"));
+    let (out, s) = solve(dir.path(), &file);
     let evals = s["evaluations"].as_array().unwrap();
     let explore = evals.iter().filter(|e| e["fidelity"] == "explore").count();
     let work = &s["work"]["by_fidelity"];
