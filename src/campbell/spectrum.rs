@@ -278,6 +278,56 @@ pub fn circularity(v: &[Complex<f64>], w: &[Complex<f64>]) -> f64 {
 mod tests {
     use super::*;
 
+    /// Rayleigh damping C = c M_pipe + β K damps a mode of circular frequency ω with the ratio
+    /// ζ = c/(2ω) + βω/2 (Clough & Penzien, *Dynamics of Structures*, 2nd ed., §12.4) when the
+    /// mass is M_pipe: with c = 0 and no fluid (M = M_pipe), ζ = βω/2 for every mode, and the
+    /// eigenvalue's modulus |λ| is the undamped ω. Read off the damped eigenvalues of the
+    /// linearised string (a different computation: the first-order form of M, D, K).
+    #[test]
+    fn stiffness_proportional_damping_gives_each_mode_the_ratio_beta_omega_over_two() {
+        use crate::campbell::{LinearSystem, Linearisation};
+        use crate::model::BasisSpec;
+        use crate::rom::ReducedModel;
+        let mut string = crate::problem::Problem::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/seed_mc2014.toml"
+        ))
+        .unwrap()
+        .model;
+        string.damping = 0.0;
+        string.fluid_density = 0.0;
+        string.stiffness_damping = 1e-4;
+        let model = ReducedModel::new(&string, 30, &BasisSpec::DEFAULT).unwrap();
+        let options = Linearisation {
+            contact: false,
+            damping: true,
+        };
+        let sys = LinearSystem::about_rest(&model, options).unwrap();
+        let s = spectrum(&sys, 0.0).unwrap();
+        assert!(s.modes.len() > 40, "{} modes", s.modes.len());
+        let mut families = [0; 3];
+        for m in &s.modes {
+            let omega = m.eigenvalue.norm();
+            let expected = 0.5 * string.stiffness_damping * omega;
+            // Round-off of the eigen solve: relative to the largest |λ|, so absolute in ζ.
+            assert!(
+                (m.damping_ratio - expected).abs() < 1e-8 * expected + 1e-10,
+                "{:?} mode at {:.2} Hz: ζ = {} against βω/2 = {expected}",
+                m.family,
+                m.freq_hz,
+                m.damping_ratio
+            );
+            families[m.family as usize] += 1;
+        }
+        assert!(families.iter().all(|&n| n > 0), "{families:?}");
+        // Without β the same modes are undamped.
+        string.stiffness_damping = 0.0;
+        let model = ReducedModel::new(&string, 30, &BasisSpec::DEFAULT).unwrap();
+        let sys = LinearSystem::about_rest(&model, options).unwrap();
+        let s = spectrum(&sys, 0.0).unwrap();
+        assert!(s.modes.iter().all(|m| m.damping_ratio.abs() < 1e-9));
+    }
+
     #[test]
     fn circularity_of_circles_and_lines() {
         let one = Complex::new(1.0, 0.0);

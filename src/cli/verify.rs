@@ -104,7 +104,12 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        print_table(&report, &settings, &refinements);
+        print_table(
+            &report,
+            &settings,
+            &refinements,
+            problem.model.stiffness_damping == 0.0,
+        );
     }
     if args.json {
         // The JSON holds the verdict ("converged"); the line goes to stderr, out of the way.
@@ -181,7 +186,13 @@ pub(super) fn significant(x: f64) -> String {
     }
 }
 
-fn print_table(r: &VerifyReport, s: &VerifySettings, refinements: &[Refinement]) {
+/// `undamped_waves`: no stiffness-proportional damping (the header's note on bit_damping_ratio).
+fn print_table(
+    r: &VerifyReport,
+    s: &VerifySettings,
+    refinements: &[Refinement],
+    undamped_waves: bool,
+) {
     println!(
         "analysis window {:.3}–{:.3} s, {:.2} revolutions (the window refinement: to {:.3} s)\nbasis {}\nrefined basis {}\nbit_damping_ratio {:.3} (the bit's negative damping / the pipe's torsional impedance{})",
         s.settling,
@@ -191,8 +202,8 @@ fn print_table(r: &VerifyReport, s: &VerifySettings, refinements: &[Refinement])
         r.basis,
         r.refined_basis,
         r.bit_damping_ratio,
-        if r.bit_damping_ratio > 1.0 {
-            "; above 1: the stick-slip statistics are set by the shortest torsional waves the basis holds"
+        if r.bit_damping_ratio > 1.0 && undamped_waves {
+            "; above 1 and without stiffness_damping: the stick-slip statistics are set by the shortest torsional waves the basis holds"
         } else {
             ""
         }

@@ -273,9 +273,11 @@ pub struct Metrics {
     /// The bit's negative damping over the pipe's torsional impedance, dimensionless (see
     /// [`crate::model::bit_damping_ratio`]): ∂T_BR/∂θ̇ at u̇ = V0, θ̇ = Ω divided by
     /// √(κ_t G J · ρ J). Positive when the bit torque weakens with speed. Above 1 the bit feeds a
-    /// torsional disturbance faster than the pipe can carry it away, the response is set by the
-    /// shortest torsional waves the model holds, and no basis converges (README, "Converged
-    /// model"). It depends on the model and the operating point only. NaN when not computed.
+    /// torsional disturbance faster than the pipe can carry it away, and with the paper's
+    /// mass-proportional damping alone the response is set by the shortest torsional waves the
+    /// model holds and no basis converges; a stiffness-proportional damping
+    /// (`[model.pipe] stiffness_damping`) bounds them (README, "Converged model"). It depends on
+    /// the model and the operating point only. NaN when not computed.
     pub bit_damping_ratio: f64,
 }
 

@@ -51,8 +51,19 @@ pub struct Drillstring {
     pub annulus_density: f64,
     /// Borehole radius R_bh, m.
     pub borehole_radius: f64,
-    /// Mass-proportional damping c, 1/s (C = c · M_pipe).
+    /// Mass-proportional damping c, 1/s (C = c · M_pipe + β K).
     pub damping: f64,
+    /// Stiffness-proportional damping β, s (`[model.pipe] stiffness_damping`; 0, the paper's
+    /// model, when absent): C = c M_pipe + β K, Rayleigh damping (Clough & Penzien, *Dynamics of
+    /// Structures*, 2nd ed., 1993, §12.4), a damping ratio ζ = c/(2ω) + βω/2 for a mode of
+    /// circular frequency ω. Not in the paper, whose C = c M_pipe damps every mode at the same rate
+    /// c/2: the velocity-weakening bit feeds torsional waves of every length (README, "Converged
+    /// model"), and β, which damps a wave at a rate growing as ω², is the dissipation that grows
+    /// with frequency (material hysteresis, the mud's viscous torque) that bounds them. The rigid
+    /// motion carries no strain (K Q̇_rigid = 0), so β adds no load of the imposed motion. Left out
+    /// of the serialised model when 0, so that the model hash of a problem without it is unchanged.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub stiffness_damping: f64,
     /// Gravitational acceleration g, m/s², acting along −z.
     pub gravity: f64,
     /// The wall contact law and its parameters (MODEL.md §5).

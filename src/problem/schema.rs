@@ -89,6 +89,8 @@ pub struct PipeSection {
     pub inner_radius: RawQuantity,
     pub outer_radius: RawQuantity,
     pub damping: RawQuantity,
+    /// Stiffness-proportional damping β (s): C = c M_pipe + β K.
+    pub stiffness_damping: Option<RawQuantity>,
     pub shear_factor: Option<RawQuantity>,
     pub torsion_factor: Option<RawQuantity>,
     /// Minimum yield strength: a pressure (`"931 MPa"`) or an API 5DP grade (`"S-135"`).

@@ -534,6 +534,10 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         Length,
     )?;
     let damping = c.non_negative("model.pipe.damping", &m.pipe.damping, Rate)?;
+    let stiffness_damping = match &m.pipe.stiffness_damping {
+        Some(raw) => c.non_negative("model.pipe.stiffness_damping", raw, Time)?,
+        None => 0.0,
+    };
     let wall = chosen_law(c, "model.wall", &m.wall, WALL_LAWS, &["law"])?;
     // `inertia` belongs to the bit, not to its law: taken out before the law's table is checked.
     let mut bit_section = m.bit.clone();
@@ -551,6 +555,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         annulus_density,
         borehole_radius,
         damping,
+        stiffness_damping,
         gravity,
         wall,
         bit,

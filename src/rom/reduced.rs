@@ -86,7 +86,14 @@ impl ReducedModel {
         let omega2 =
             DVector::from_iterator(basis.len(), basis.modes.iter().map(|m| m.omega * m.omega));
         let pipe_mass = to_na(&global.pipe_mass);
-        let damping = Operator::Dense(phi.transpose() * (&pipe_mass * &phi) * string.damping);
+        let mut damping = phi.transpose() * (&pipe_mass * &phi) * string.damping;
+        if string.stiffness_damping > 0.0 {
+            // β Φᵀ K Φ as a product (not β Λ): the static corrections and resting shapes of the
+            // basis are not eigenvectors of K.
+            let stiffness = to_na(&global.stiffness);
+            damping += phi.transpose() * (&stiffness * &phi) * string.stiffness_damping;
+        }
+        let damping = Operator::Dense(damping);
         let operators = Operators {
             mass: Operator::Identity,
             stiffness: Operator::Diagonal(omega2.clone()),
@@ -124,7 +131,10 @@ impl ReducedModel {
         let operators = Operators {
             mass: Operator::sparse_from(&restrict(&global.mass)),
             stiffness: Operator::sparse_from(&restrict(&global.stiffness)),
-            damping: Operator::sparse_from(&(restrict(&global.pipe_mass) * string.damping)),
+            damping: Operator::sparse_from(
+                &(restrict(&global.pipe_mass) * string.damping
+                    + restrict(&global.stiffness) * string.stiffness_damping),
+            ),
             jacobian_pattern: Some(pattern),
         };
         Ok(Self::project(

@@ -325,8 +325,9 @@ pub struct VerifyRun {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct VerifyReport {
     pub metrics: BTreeMap<&'static str, MetricVerdict>,
-    /// [`crate::model::bit_damping_ratio`] at the operating point: above 1 the stick-slip
-    /// statistics are set by the shortest torsional waves the basis holds and do not converge.
+    /// [`crate::model::bit_damping_ratio`] at the operating point: above 1, without
+    /// stiffness-proportional damping, the stick-slip statistics are set by the shortest
+    /// torsional waves the basis holds and do not converge.
     pub bit_damping_ratio: f64,
     /// Length of the base run's analysis window (duration − settling), s.
     pub window_s: f64,

@@ -12,7 +12,10 @@
 //! unbounded at low frequency as c → Z. The ratio c/Z is reported as the metric
 //! `bit_damping_ratio`: above 1 the answer of the model is set by the shortest torsional waves it
 //! holds (README, "Converged model": at 40 rpm and 20 m/h on the seed, ratio 1.97, 8 to 32
-//! torsional modes give stick fractions from 11 % to 0 %).
+//! torsional modes give stick fractions from 11 % to 0 %). The excess gain of a reflection falls
+//! as ω⁻² at high frequency (|R|² − 1 ≈ 4Zc/(ωJ_b)²), so a damping that grows as ω², the
+//! stiffness-proportional β K of `[model.pipe] stiffness_damping` (a modal decay rate βω²/2),
+//! bounds the waves the bit feeds and restores a converged answer.
 
 use crate::model::{Drillstring, OperatingPoint, Section};
 
