@@ -17,12 +17,16 @@ const BENCH: &str = concat!(
 fn the_benchmark_is_the_seed_string_with_the_issue_s_study() {
     let p = Problem::load(BENCH).unwrap_or_else(|e| panic!("{e}"));
     let seed = Problem::load(common::SEED).unwrap();
-    // The model, mesh (default basis) and integrator of seed_mc2014.toml; the yield strength is
-    // the one addition (API 5DP E-75, 75 ksi), the reference of the damage limit.
+    // The model, mesh (default basis) and integrator of seed_mc2014.toml; the additions are the
+    // yield strength (API 5DP E-75, 75 ksi), the reference of the damage limit, and a
+    // stiffness-proportional damping of 10 µs, without which the optimum is not converged in the
+    // basis (README, "Converged model").
     let yield_strength = p.model.pipe.yield_strength.expect("a yield strength");
     assert!((yield_strength - 75_000.0 * 6894.757293168).abs() < 1.0);
+    assert!((p.model.stiffness_damping / 1e-5 - 1.0).abs() < 1e-12);
     let mut model = p.model.clone();
     model.pipe.yield_strength = None;
+    model.stiffness_damping = 0.0;
     assert_eq!(model, seed.model);
     assert_eq!(p.mesh, seed.mesh);
     assert_eq!(p.simulation.time_step, seed.simulation.time_step);
@@ -68,10 +72,10 @@ fn the_benchmark_is_the_seed_string_with_the_issue_s_study() {
     let m_per_h = |x: f64| drillopt::units::to_m_per_h(x);
     assert!((rpm(c.omega[0]) - 40.0).abs() < 1e-9 && (rpm(c.omega[1]) - 120.0).abs() < 1e-9);
     assert!((m_per_h(c.v0[0]) - 2.0).abs() < 1e-9 && (m_per_h(c.v0[1]) - 30.0).abs() < 1e-9);
-    assert_eq!(c.chance.len(), 2);
+    // One chance constraint, on the damage metric (none on bit_damping_ratio: with the stiffness
+    // damping the model has a converged answer beyond ratio 1 too).
+    assert_eq!(c.chance.len(), 1);
     assert_eq!(c.chance[0].metric, "von_mises_utilization");
-    // And one on the region where the model has a converged answer.
-    assert_eq!(c.chance[1].metric, "bit_damping_ratio");
 
     // A global method for a multimodal map, and no expected optimum: not a regression problem.
     assert!(matches!(s.optimizer, OptimizerSettings::EgoTrustRegion(_)));

@@ -60,3 +60,37 @@ fn the_cache_key_changes_only_with_damping() {
     assert_eq!(model_hash(&load(&with_beta("0")).unwrap()), seed);
     assert_ne!(model_hash(&load(&with_beta("\"10 us\"")).unwrap()), seed);
 }
+
+/// An uncertain β whose law reaches beyond the key's range (1 ms) is refused when the problem is
+/// read, at either end, not at the sample that draws it (a fresh user's review: a uniform law up to
+/// 2 ms loaded and failed at sample 0 of `compare`).
+#[test]
+fn an_uncertain_beta_whose_law_leaves_the_range_is_refused_at_load() {
+    let with_law = |law: &str| {
+        format!(
+            "{}\n[uncertain]\nsamples = 4\nseed = 1\n\n[[uncertain.parameter]]\nkey = \"model.pipe.stiffness_damping\"\n{law}\n",
+            seed_text()
+        )
+    };
+    for (law, words) in [
+        (
+            "law = \"uniform\"\nlow = \"0.5 ms\"\nhigh = \"2 ms\"",
+            "upper end = 0.002",
+        ),
+        (
+            "law = \"gamma\"\nmean = \"0.9 ms\"\ncov = 0.05",
+            "mean + 4σ or the upper end",
+        ),
+        (
+            "law = \"normal\"\nmean = \"10 us\"\nstd = \"5 us\"",
+            "mean − 4σ or the lower end",
+        ),
+    ] {
+        let err = load(&with_law(law)).unwrap_err();
+        let msg = err.to_string();
+        assert_eq!(err.key(), Some("uncertain.parameter[0].law"), "{msg}");
+        assert!(msg.contains(words), "{law}: {msg}");
+    }
+    let p = load(&with_law("law = \"gamma\"\nmean = \"10 us\"\ncov = 0.1")).unwrap();
+    assert_eq!((p.study.samples, p.study.uncertain.len()), (4, 1));
+}

@@ -19,7 +19,8 @@
 //!   gyroscopic coupling 2ρI θ̇x θy θ̇z of the kinetic energy (MODEL.md §3) about the rigid spin
 //!   θ̇x = Ω. The nonlinear inertia has no stiffness term at rest (no Ω² term: the kinetic energy
 //!   holds θ̇x only through (θ̇x + θy θ̇z)²), so nothing else depends on Ω;
-//! - D = c Φᵀ M_pipe Φ, the structural damping, only when [`Linearisation::damping`] is set.
+//! - D = Φᵀ (c M_pipe + β K) Φ, the structural damping (β: `[model.pipe] stiffness_damping`),
+//!   only when [`Linearisation::damping`] is set.
 //!
 //! Left out, to be said with every result: wall friction (its torque μ_FS |F_FS| R_bh sgn θ̇x
 //! couples torsion to the lateral motion through |F_FS|, and its smoothed sign has a slope
@@ -43,7 +44,7 @@ pub struct Linearisation {
     /// About the resting state with the wall's contact stiffness (true, the default), or about
     /// the straight unloaded string without the wall (false).
     pub contact: bool,
-    /// With the structural damping D = c Φᵀ M_pipe Φ (default false: undamped, so the
+    /// With the structural damping D = Φᵀ (c M_pipe + β K) Φ (default false: undamped, so the
     /// eigenvalues are ±iω).
     pub damping: bool,
 }

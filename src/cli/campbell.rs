@@ -51,7 +51,8 @@ pub struct CampbellArgs {
     /// of `drillopt modes`).
     #[arg(long)]
     pub no_contact: bool,
-    /// With the structural damping c M_pipe (damped frequencies and damping ratios).
+    /// With the structural damping c M_pipe + β K (`damping`, `stiffness_damping`; damped
+    /// frequencies and damping ratios).
     #[arg(long)]
     pub damping: bool,
     /// The finite-element model without reduction (every free DOF) instead of the problem's

@@ -318,7 +318,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         report::write_envelope_csv(&out.join("stress_envelope.csv"), envelope)?;
         report::plot_stress_envelope(envelope, &op, &out.join("stress_envelope.svg"))?;
     }
-    print_summary(&summary, &out, problem.model.stiffness_damping == 0.0);
+    print_summary(&summary, &out, problem.model.stiffness_damping);
     if let Some(e) = &output.error {
         anyhow::bail!(
             "simulation stopped early: {e} (results up to then written to {})",
@@ -334,9 +334,15 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `undamped_waves`: the model has no stiffness-proportional damping, so a bit_damping_ratio above
-/// 1 leaves the stick-slip statistics unconverged (README, "Converged model").
-fn print_summary(s: &SummaryJson, out: &Path, undamped_waves: bool) {
+/// The stiffness-proportional damping β with which `verify` found the seed string's stick-slip
+/// statistics converged up to bit_damping_ratio 1.98 (README, "Converged model"), s; 1 µs was too
+/// little.
+const CONVERGED_STIFFNESS_DAMPING: f64 = 1e-5;
+
+/// `stiffness_damping`: the model's β, s; with none (or one below the evidence of
+/// [`CONVERGED_STIFFNESS_DAMPING`], to round-off: `"10 us"` reads as 9.999999999999999e-6 s) a
+/// bit_damping_ratio above 1 draws a warning.
+fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64) {
     let st = s.solver;
     // A run that stopped early did not simulate its duration: say so (the error follows).
     let done = match s.status {
@@ -391,10 +397,18 @@ fn print_summary(s: &SummaryJson, out: &Path, undamped_waves: bool) {
         if let Some(w) = yield_warning(m) {
             eprintln!("{w}");
         }
-        if m.bit_damping_ratio > 1.0 && undamped_waves {
+        if m.bit_damping_ratio > 1.0 && stiffness_damping == 0.0 {
             eprintln!(
                 "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1): the bit feeds torsional waves faster than the string carries them away, and without [model.pipe] stiffness_damping the stick-slip statistics depend on the shortest torsional waves the basis holds: expect `drillopt verify` to find them not converged (README, \"Converged model\": stiffness_damping = \"10 us\" bounds them)",
                 m.bit_damping_ratio
+            );
+        } else if m.bit_damping_ratio > 1.0
+            && stiffness_damping < CONVERGED_STIFFNESS_DAMPING * (1.0 - 1e-9)
+        {
+            eprintln!(
+                "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1), and stiffness_damping = {:.3} us is below the 10 us with which `drillopt verify` found the stick-slip statistics converged up to a ratio of 1.98 (1 us was too little; README, \"Converged model\"): check this point with `drillopt verify`",
+                m.bit_damping_ratio,
+                stiffness_damping * 1e6
             );
         }
     } else if let Some(e) = &s.metrics_error {

@@ -228,6 +228,17 @@ fn uncertain(
                 ),
             ));
         }
+        // The same at the upper end (a uniform law's `high`, or mean + 4σ).
+        let hi = law.upper_support().min(law.mean() + 4.0 * law.std_dev());
+        if let Err(why) = key.admissible(model, hi) {
+            return Err(c.fail(
+                &at("law"),
+                format!(
+                    "puts probability on inadmissible values of {} (mean + 4σ or the upper end = {hi}; it {why}); lower the mean, the spread or `high`",
+                    key.name()
+                ),
+            ));
+        }
         params.push(UncertainParameter { key, law });
     }
     // Entries refused above (a bad value, a misspelt key, `[[uncertain.parameters]]`) are

@@ -61,6 +61,21 @@ pub enum Dimension {
     Impulse,
 }
 
+/// `value` in a unit of `factor` SI units, in SI. A decimal sub-unit (mm, ms, us: factor 10⁻ᵏ)
+/// divides by 10ᵏ, which is exact in floating point, so the result is the double nearest the
+/// decimal the user typed: `"10 us"` is 1e-5 s, where 10 × 1e-6 is 9.999999999999999e-6 (the
+/// factor 1e-6 itself is not exact).
+fn to_si(value: f64, factor: f64) -> f64 {
+    let inverse = (1.0 / factor).round();
+    let decimal =
+        factor < 1.0 && inverse <= 1e15 && 10f64.powi(inverse.log10().round() as i32) == inverse;
+    if decimal && (factor * inverse - 1.0).abs() < 1e-15 {
+        value / inverse
+    } else {
+        value * factor
+    }
+}
+
 impl Dimension {
     /// Units accepted for this dimension, with their factor to SI.
     pub fn units(self) -> &'static [(&'static str, f64)] {
@@ -79,6 +94,8 @@ impl Dimension {
                 ("s", 1.0),
                 ("ms", 1e-3),
                 ("us", 1e-6),
+                ("µs", 1e-6),
+                ("μs", 1e-6),
                 ("min", 60.0),
                 ("h", 3600.0),
             ],
@@ -193,7 +210,7 @@ impl Dimension {
         };
         exact
             .or_else(folded)
-            .map(|(_, factor)| value * factor)
+            .map(|(_, factor)| to_si(value, *factor))
             .ok_or_else(|| UnitError::new(self, text, &self.not_a_unit_of(unit)))
     }
 
@@ -325,6 +342,30 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
     use std::f64::consts::PI;
+
+    /// A decimal sub-unit gives the double nearest the typed decimal (a review found `"10 us"`
+    /// read as 9.999999999999999e-6 s, a different model hash from `1e-5` and, through the
+    /// chaos of stick-slip, a different run); other factors multiply as before.
+    #[test]
+    fn decimal_sub_units_are_exact_to_the_typed_decimal() {
+        assert_eq!(Dimension::Time.parse("10 us").unwrap(), 1e-5);
+        assert_eq!(Dimension::Time.parse("0.01 ms").unwrap(), 1e-5);
+        // The micro sign (U+00B5) and the Greek mu (U+03BC), as the README writes µs.
+        assert_eq!(Dimension::Time.parse("10 µs").unwrap(), 1e-5);
+        assert_eq!(Dimension::Time.parse("10 μs").unwrap(), 1e-5);
+        assert_eq!(Dimension::Time.parse("69 ms").unwrap(), 0.069);
+        assert_eq!(Dimension::Length.parse("40 mm").unwrap(), 0.04);
+        assert_eq!(Dimension::Length.parse("7 cm").unwrap(), 0.07);
+        assert_eq!(Dimension::Length.parse("2 km").unwrap(), 2000.0);
+        assert_eq!(Dimension::Length.parse("1 ft").unwrap(), 0.3048);
+        for v in [1.0, 3.0, 10.0, 20.0, 30.0, 40.0, 105.0, 123.456] {
+            assert_eq!(
+                Dimension::Time.parse(&format!("{v} us")).unwrap(),
+                v / 1e6,
+                "{v}"
+            );
+        }
+    }
 
     #[test]
     fn converts_the_units_drillers_use() {
