@@ -147,11 +147,18 @@ print(f"simulations: {len(rows)} rows of evaluations.csv ({shape}) "
       f"({w['simulations_run']} run, {w['simulations_from_cache']} from the cache, {w['simulations_failed']} failed), "
       f"{wall / max(w['simulations_run'], 1):.2f} s of wall time per simulation run "
       f"(with the numerical check at the optimum; × threads: {wall * threads / max(w['simulations_run'], 1):.2f} core·s)")
-try:  # each simulation's own wall time, recorded in the evaluation cache
-    times = [json.loads(l)["info"]["wall_time_s"] for l in open(f"{solve}/cache.jsonl") if l.strip()]
-    times.sort()
-    print(f"one simulation: mean {sum(times) / len(times):.2f} s, median {times[len(times) // 2]:.2f} s, "
-          f"range {times[0]:.2f}–{times[-1]:.2f} s over {len(times)} (cache.jsonl)")
+try:  # each simulation's own wall time, recorded in the evaluation cache, per fidelity (model hash)
+    cached = [json.loads(l) for l in open(f"{solve}/cache.jsonl") if l.strip()]
+    groups = {}
+    for r in cached:
+        groups.setdefault(r["key"]["model_hash"], []).append(r["info"]["wall_time_s"])
+    # Fidelities by their run counts (evaluations.csv), else "model A", "model B" in cache order.
+    counts = {f: sum(1 for r in rows if r.get("fidelity") == f) for f in ("explore", "full")}
+    for i, times in enumerate(groups.values()):
+        times.sort()
+        name = next((f for f, n in counts.items() if n == len(times)), f"model {chr(65 + i)}")
+        print(f"one simulation ({name}): mean {sum(times) / len(times):.2f} s, median {times[len(times) // 2]:.2f} s, "
+              f"range {times[0]:.2f}–{times[-1]:.2f} s over {len(times)} (cache.jsonl)")
 except (OSError, KeyError, ValueError, ZeroDivisionError) as e:
     print(f"one simulation: unknown ({e})")
 print(f"status:      {s['status']} ({s['termination']}), method {s['method']}")
@@ -166,7 +173,9 @@ terms = " ".join(f"− {r['weight']:g}·{r['statistic']['kind']}{('_' + format(r
 print(f"objective:   {obj['score']:.4f} {obj['quantity_unit']} = {obj['statistic']['kind']}({obj['quantity']}) {obj['quantity_value']:.3f} {terms}")
 ci = {k: v for k, v in obj.items() if "confidence" in k or "interval" in k}
 if ci:
-    print(f"  solution.json's interval: {json.dumps(ci)}")
+    lo, hi = obj.get("score_interval", [float("nan")] * 2)
+    print(f"  {100 * obj.get('score_confidence', float('nan')):g} % interval of solution.json (its own bootstrap, src/study/score.rs): "
+          f"[{lo:.4f}, {hi:.4f}] {obj['quantity_unit']}")
 samples = [x["metrics"] for x in s["metrics_per_sample"] if "metrics" in x]
 try:
     again = score(obj, samples)
@@ -185,6 +194,11 @@ nc = s.get("numerical_check")
 if nc:
     basis = lambda b: " ".join(f"{k} {v}" for k, v in b.items()) if isinstance(b, dict) else str(b)
     print(f"  numerical check at the optimum (basis {basis(nc['basis'])} → {basis(nc['refined_basis'])}): "
-          f"{'converged' if nc['converged'] else 'NOT converged'}")
+          f"{'converged' if nc['converged'] else 'NOT converged'} on the metrics the problem uses")
+    for name, m in sorted(nc.get("metrics", {}).items()):
+        if m.get("used") or not m.get("converged", True):
+            print(f"    {name}: {m['value']:.6g} → {m['refined_basis']:.6g} ({100 * (m['refined_basis'] - m['value']) / abs(m['value']):+.2f} %, limit "
+                  f"{100 * m['limit']:g} %){'' if m.get('used') else ', not used'}"
+                  f"{'' if m.get('converged', True) else ', NOT converged'}")
 EOF
 if [ "$keep" = 1 ]; then echo "results in $out"; fi
