@@ -184,7 +184,7 @@ try:
     rng = random.Random(0)
     boot = sorted(score(obj, [rng.choice(samples) for _ in samples]) for _ in range(2000))
     print(f"  95 % bootstrap interval over its {len(samples)} samples (percentile, 2000 resamples; "
-          f"not in solution.json): [{boot[49]:.4f}, {boot[1949]:.4f}] {obj['quantity_unit']}")
+          f"the script's own): [{boot[49]:.4f}, {boot[1949]:.4f}] {obj['quantity_unit']}")
 except (KeyError, ValueError, IndexError) as e:
     print(f"  no bootstrap interval: {e}")
 for c in (s.get("constraints") or {}).get("chance", []):
