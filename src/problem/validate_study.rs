@@ -218,26 +218,30 @@ fn uncertain(
         law.validate().map_err(|m| c.fail(&at("law"), m))?;
         // A law whose bulk leaves the admissible range would make samples fail, not the
         // optimisation: refuse it here (normal laws are not truncated).
-        let lo = law.lower_support().max(law.mean() - 4.0 * law.std_dev());
-        if let Err(why) = key.admissible(model, lo) {
-            return Err(c.fail(
-                &at("law"),
-                format!(
-                    "puts probability on inadmissible values of {} (mean − 4σ or the lower end = {lo}; it {why}); use gamma or lognormal for a positive parameter",
-                    key.name()
-                ),
-            ));
-        }
-        // The same at the upper end (a uniform law's `high`, or mean + 4σ).
-        let hi = law.upper_support().min(law.mean() + 4.0 * law.std_dev());
-        if let Err(why) = key.admissible(model, hi) {
-            return Err(c.fail(
-                &at("law"),
-                format!(
-                    "puts probability on inadmissible values of {} (mean + 4σ or the upper end = {hi}; it {why}); lower the mean, the spread or `high`",
-                    key.name()
-                ),
-            ));
+        // At either end: the support's end or mean ∓ 4σ, whichever is nearer.
+        let (mean, reach) = (law.mean(), 4.0 * law.std_dev());
+        let ends = [
+            (
+                law.lower_support().max(mean - reach),
+                "mean − 4σ or the lower end",
+                "use gamma or lognormal for a positive parameter",
+            ),
+            (
+                law.upper_support().min(mean + reach),
+                "mean + 4σ or the upper end",
+                "lower the mean, the spread or `high`",
+            ),
+        ];
+        for (end, which, advice) in ends {
+            if let Err(why) = key.admissible(model, end) {
+                return Err(c.fail(
+                    &at("law"),
+                    format!(
+                        "puts probability on inadmissible values of {} ({which} = {end}; it {why}); {advice}",
+                        key.name()
+                    ),
+                ));
+            }
         }
         params.push(UncertainParameter { key, law });
     }
