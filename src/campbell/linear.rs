@@ -118,7 +118,7 @@ impl LinearSystem {
             model.add_strain_tangent(&zero, &mut straight, &mut scratch, &mut work, true);
             stiffness += at_rest - straight;
             let string = &model.string;
-            let (gap, h) = (string.gap(), model.global.element.length);
+            let h = model.global.element.length;
             let mut state = RestingState {
                 contact_nodes: 0,
                 contact_span_m: None,
@@ -128,13 +128,15 @@ impl LinearSystem {
             };
             for node in 0..model.nodes() {
                 let (iv, iw) = (Dof::V.at(node), Dof::W.at(node));
+                // At rest: no slip, so no friction, whatever its law.
                 let c = wall_contact(
                     string.wall.law(),
-                    gap,
-                    string.borehole_radius,
-                    [q_full[iv], q_full[iw]],
-                    [0.0, 0.0],
-                    0.0,
+                    string.wall_friction,
+                    crate::sim::WallGeometry::of(string),
+                    crate::sim::NodeMotion {
+                        position: [q_full[iv], q_full[iw]],
+                        ..Default::default()
+                    },
                 );
                 if !c.active {
                     continue;

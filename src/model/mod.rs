@@ -9,6 +9,7 @@ pub mod law;
 pub mod parameters;
 mod params;
 mod section;
+mod torque_drag;
 pub mod wall;
 
 pub use basis::{BasisSpec, FamilySize};
@@ -21,4 +22,5 @@ pub use params::{
     Simulation, Start,
 };
 pub use section::{Section, cowper_shear_factor};
-pub use wall::{NormalForce, WallContact, WallContactLaw};
+pub use torque_drag::SoftString;
+pub use wall::{NormalForce, WallContact, WallContactLaw, WallFriction};

@@ -68,6 +68,9 @@ pub struct Drillstring {
     pub gravity: f64,
     /// The wall contact law and its parameters (MODEL.md §5).
     pub wall: super::WallContact,
+    /// How the wall's friction acts on a node in contact (`[model.wall] friction_law`): Coulomb
+    /// on the slip of the contact point (MODEL.md §11.2, the default) or the paper's torque.
+    pub wall_friction: super::WallFriction,
     /// The bit–rock interaction law and its parameters (MODEL.md §6).
     pub bit: super::BitRock,
     /// Polar moment of inertia of the bit (and of whatever turns with it below the last node),

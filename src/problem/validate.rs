@@ -5,7 +5,7 @@ use super::schema::*;
 use super::{Dimension, Problem, ProblemError};
 use crate::model::bit::BIT_LAWS;
 use crate::model::law::{Chosen, Law, LawEntry, find};
-use crate::model::wall::WALL_LAWS;
+use crate::model::wall::{WALL_LAWS, WallFriction};
 use crate::model::{
     BasisSpec, CampbellSettings, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec,
     Pipe, SampleInterval, Simulation, Start, cowper_shear_factor,
@@ -538,7 +538,21 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         Some(raw) => c.non_negative("model.pipe.stiffness_damping", raw, Time)?,
         None => 0.0,
     };
-    let wall = chosen_law(c, "model.wall", &m.wall, WALL_LAWS, &["law"])?;
+    // `friction_law` and `slip_smoothing` say how the law's friction acts, whatever the law:
+    // taken out before the law's table is checked.
+    let mut wall_section = m.wall.clone();
+    let wall_friction = wall_friction(
+        c,
+        wall_section.parameters.remove("friction_law"),
+        wall_section.parameters.remove("slip_smoothing"),
+    )?;
+    let wall = chosen_law(
+        c,
+        "model.wall",
+        &wall_section,
+        WALL_LAWS,
+        &["law", "friction_law", "slip_smoothing"],
+    )?;
     // `inertia` belongs to the bit, not to its law: taken out before the law's table is checked.
     let mut bit_section = m.bit.clone();
     let inertia = bit_section.parameters.remove("inertia");
@@ -558,8 +572,68 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         stiffness_damping,
         gravity,
         wall,
+        wall_friction,
         bit,
     })
+}
+
+/// `[model.wall] friction_law` (`"coulomb"`, the default, or `"paper"`) and the Coulomb law's
+/// `slip_smoothing` (m/s; refused with the paper's friction, which has none).
+fn wall_friction(
+    c: &Checker,
+    law: Option<RawQuantity>,
+    smoothing: Option<RawQuantity>,
+) -> Result<WallFriction, ProblemError> {
+    let key = "model.wall.friction_law";
+    let name = match &law {
+        None => "coulomb".to_string(),
+        Some(RawQuantity::Text(t)) => t.trim().to_string(),
+        Some(RawQuantity::Number(x)) => {
+            c.record(
+                key,
+                format!("must be a string, \"coulomb\" or \"paper\", got the number {x}"),
+            );
+            return Ok(WallFriction::COULOMB);
+        }
+    };
+    let smoothing_key = "model.wall.slip_smoothing";
+    match name.as_str() {
+        "coulomb" => {
+            let slip_smoothing = match &smoothing {
+                None => WallFriction::DEFAULT_SLIP_SMOOTHING,
+                Some(raw) => {
+                    let spec = crate::model::ParameterSpec {
+                        key: smoothing_key,
+                        dimension: WallFriction::SLIP_SMOOTHING_DIMENSION,
+                        range: WallFriction::SLIP_SMOOTHING_RANGE,
+                        default: Some(WallFriction::DEFAULT_SLIP_SMOOTHING),
+                        example: WallFriction::DEFAULT_SLIP_SMOOTHING,
+                        doc: "ε of the Coulomb friction's smooth magnitude √(|s|² + ε²)",
+                    };
+                    c.spec_value(&spec, raw)?
+                }
+            };
+            Ok(WallFriction::Coulomb { slip_smoothing })
+        }
+        "paper" => {
+            if smoothing.is_some() {
+                c.record(
+                    smoothing_key,
+                    "belongs to friction_law = \"coulomb\"; the paper's friction is smoothed by sign_smoothing".to_string(),
+                );
+            }
+            Ok(WallFriction::Paper)
+        }
+        other => {
+            c.record(
+                key,
+                format!(
+                    "must be \"coulomb\" (Coulomb friction on the slip of the contact point: axial drag, torque with lever R_ext, the circumferential force) or \"paper\" (the paper's torque-only friction with lever R_bh), got \"{other}\""
+                ),
+            );
+            Ok(WallFriction::COULOMB)
+        }
+    }
 }
 
 /// A law table (`[model.wall]`, `[model.bit]`, named `table`): the law of `registry` named by

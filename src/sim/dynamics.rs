@@ -8,6 +8,7 @@
 //! spin angle out of the strain evaluation avoids cancellation. Nonlinear forces are computed on
 //! the full mesh and projected (Φᵀ).
 
+use super::contact::{FRICTION_DOFS, NodeMotion, WallGeometry};
 use super::contact_tangent::ContactTangent;
 use super::{BitLoad, NodeContact, wall_contact};
 use crate::fem::{Dof, ElementVector};
@@ -72,6 +73,7 @@ pub struct Dynamics<'m> {
     op: OperatingPoint,
     effects: Effects,
     gap: f64,
+    wall: WallGeometry,
     q_full: DVector<f64>,
     v_full: DVector<f64>,
     a_full: DVector<f64>,
@@ -114,6 +116,7 @@ impl<'m> Dynamics<'m> {
             op,
             effects,
             gap: model.string.gap(),
+            wall: WallGeometry::of(&model.string),
             q_full: DVector::zeros(ndof),
             v_full: DVector::zeros(ndof),
             a_full: DVector::zeros(ndof),
@@ -230,23 +233,28 @@ impl<'m> Dynamics<'m> {
             }
         }
         self.element_energies = (strain, kinetic);
-        let (law, rbh) = (m.string.wall.law(), m.string.borehole_radius);
+        let (law, friction) = (m.string.wall.law(), m.string.wall_friction);
         for node in 0..m.nodes() {
-            let (iv, iw, it) = (Dof::V.at(node), Dof::W.at(node), Dof::ThetaX.at(node));
+            let (iu, iv, iw, it) = (
+                Dof::U.at(node),
+                Dof::V.at(node),
+                Dof::W.at(node),
+                Dof::ThetaX.at(node),
+            );
             let c = if self.effects.wall {
-                wall_contact(
-                    law,
-                    self.gap,
-                    rbh,
-                    [self.q_full[iv], self.q_full[iw]],
-                    [self.v_full[iv], self.v_full[iw]],
-                    self.v_full[it],
-                )
+                let motion = NodeMotion {
+                    position: [self.q_full[iv], self.q_full[iw]],
+                    velocity: [self.v_full[iv], self.v_full[iw]],
+                    axial_velocity: self.v_full[iu],
+                    spin: self.v_full[it],
+                };
+                wall_contact(law, friction, self.wall, motion)
             } else {
                 NodeContact::default()
             };
             let stored = &mut self.contacts[node];
             if c.active || stored.active {
+                self.f_full[iu] -= c.axial_force;
                 self.f_full[iv] -= c.force[0];
                 self.f_full[iw] -= c.force[1];
                 self.f_full[it] -= c.torque;
@@ -279,6 +287,14 @@ impl<'m> Dynamics<'m> {
             }
         }
         (count, hash.finish(), self.bit.force != 0.0)
+    }
+
+    /// The share of the wall law's friction coefficient that acts (1 unless changed: the
+    /// pre-loaded start ramps it from 0 to 1).
+    pub fn set_friction_scale(&mut self, scale: f64) {
+        self.wall.friction_scale = scale;
+        // The cached full-mesh forces belong to the old friction.
+        self.evaluated[0].fill(f64::NAN);
     }
 
     /// What the time history records at a state.
@@ -512,6 +528,25 @@ impl ImplicitSystem for Dynamics<'_> {
             self.contact_tangent.push(phi, node, w);
         }
         self.contact_tangent.add_to(out);
+        // The friction's coupling of u and θx with the lateral DOFs (and of u and θx with each
+        // other): −∂f/∂(q, q̇) on the node's rows of Φ, one rank-one term per non-zero entry.
+        for (node, k) in self.contacts.iter().enumerate() {
+            if !(k.active && k.coupled) {
+                continue;
+            }
+            for (a, row) in FRICTION_DOFS.iter().enumerate() {
+                for (b, col) in FRICTION_DOFS.iter().enumerate() {
+                    let stiffness = match b {
+                        1 | 2 => k.coupling_stiffness[a][b - 1],
+                        _ => 0.0,
+                    };
+                    let w = -(c.cq * stiffness + c.cv * k.coupling_damping[a][b]);
+                    if w != 0.0 {
+                        phi.add_dof_outer(w, row.at(node), col.at(node), out);
+                    }
+                }
+            }
+        }
         // Bit: −∂(F, T)/∂(u̇, θ̇) at the bit node.
         let bit_node = m.elements();
         let (iu, it) = (Dof::U.at(bit_node), Dof::ThetaX.at(bit_node));

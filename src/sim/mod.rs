@@ -12,7 +12,7 @@ mod sampler;
 mod series;
 
 pub use crate::model::BitLoad;
-pub use contact::{NodeContact, wall_contact};
+pub use contact::{NodeContact, NodeMotion, WallGeometry, wall_contact};
 pub use dynamics::{Dynamics, Effects, Observation};
 pub use envelope::StressEnvelope;
 pub use fatigue::{FATIGUE_FIBRES, SectionFatigue};
@@ -38,4 +38,8 @@ pub use series::{CHANNELS, Channel, Frame, Row, Sink, TimeSeries, at};
 /// 8: Newton starts each step from the acceleration extrapolated through the last three accepted
 /// steps (was: the current one); results move within the Newton tolerance (seed_study, 10 s:
 /// stick-slip statistics by ≤ 0.9 %, means by ≤ 1e-4).
-pub const SIMULATOR_REVISION: u32 = 8;
+/// 9: wall friction on the slip of the contact point (`friction_law = "coulomb"`, the default:
+/// axial drag, circumferential force, torque with lever R_ext; exact tangent in the Newton
+/// matrix); the pre-loaded start by continuation in the friction with the climbing predictor,
+/// checked against the soft-string torque and drag; runs above 10× yield refused.
+pub const SIMULATOR_REVISION: u32 = 9;

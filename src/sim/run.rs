@@ -113,6 +113,32 @@ pub enum SimulationError {
         "the starting equilibrium (static under gravity, or the pre-loaded drilling state) did not converge in {iterations} Newton iterations (last update {update:e} m)"
     )]
     StaticEquilibrium { iterations: usize, update: f64 },
+    #[error(
+        "the pre-loaded drilling state was found without wall friction, but the continuation in the friction coefficient stalled at {:.1} % of mu = {friction} after {iterations} Newton iterations in all; try a smaller model.wall.friction, a softer model.wall.stiffness, or [simulation] start = \"unloaded\"",
+        100.0 * reached
+    )]
+    FrictionContinuation {
+        reached: f64,
+        friction: f64,
+        iterations: usize,
+    },
+    #[error(
+        "the run reached a state that no steel string survives: a von Mises stress of {stress_mpa:.0} MPa at x = {position_m:.2} m, above {limit_mpa:.0} MPa (10 times the yield strength, or 2 % strain without one); check the inputs, the start and the basis (drillopt verify)"
+    )]
+    NonPhysicalStress {
+        stress_mpa: f64,
+        position_m: f64,
+        limit_mpa: f64,
+    },
+    #[error(
+        "the pre-loaded drilling state is not physical: its {quantity} is {state:.4e} where the soft-string torque and drag of the string gives {estimate:.4e} (allowed: within 5 % of it, or a friction part within 1/{factor} to {factor} times the estimate's); check the wall law's stiffness and friction and the bit law, or start from [simulation] start = \"unloaded\""
+    )]
+    NonPhysicalStart {
+        quantity: &'static str,
+        state: f64,
+        estimate: f64,
+        factor: f64,
+    },
     #[error("at t = {time:.6} s the time step fell below {min_step:e} s ({reason})")]
     StepTooSmall {
         time: f64,
@@ -215,88 +241,335 @@ pub fn static_equilibrium(model: &ReducedModel) -> Result<(DVector<f64>, usize),
 }
 
 /// The steady drilling state at `op` (see [`InitialState::Preloaded`]): r(q, 0, 0) = 0 with every
-/// load of `effects` at the rigid velocity field, solved as [`static_equilibrium`].
+/// load of `effects` at the rigid velocity field (MODEL.md §4, §11.6).
+///
+/// Found in two stages, so that it converges for any admissible friction: first without wall
+/// friction (gravity, wall contact, the bit's steady loads and the damping of the rigid motion:
+/// Newton from the straight string), then by continuation in the friction coefficient, μ_k
+/// from 0 to μ, each stage a Newton solve from the last (the step in μ doubles after a stage
+/// that converged in few iterations and halves after one that did not, down to 1/1024 of μ).
+/// The friction of a string that turns and slides is a smooth function of the state (the slip of
+/// its contact points is the rigid motion's), so the continuation path is smooth; Newton from
+/// the straight string at full friction, with the friction's tangent left out, failed for
+/// μ ≥ 0.05 on the 466 m collar string and erratically on the seed (issue "Friction as it is in
+/// a well"). The state found is then checked against the soft-string torque and drag
+/// ([`crate::model::SoftString`], see [`check_against_soft_string`]): a state that does not match
+/// is an error, never a silent start.
 pub fn preloaded_equilibrium(
     model: &ReducedModel,
     op: OperatingPoint,
     effects: Effects,
 ) -> Result<(DVector<f64>, usize), SimulationError> {
-    equilibrium(model, op, effects)
+    let mut sys = Dynamics::new(model, op, effects);
+    let mut newton = EquilibriumNewton::new(model);
+    let mut q = DVector::zeros(model.size());
+    let friction = model.string.wall.law().friction();
+    let slipping = op.omega != 0.0 || op.v0 != 0.0;
+    if !(effects.wall && friction > 0.0 && slipping) {
+        let iterations =
+            newton
+                .solve(&mut sys, &mut q, STATIC_ITERATIONS)
+                .map_err(|(iterations, update)| SimulationError::StaticEquilibrium {
+                    iterations,
+                    update,
+                })?;
+        return Ok((q, iterations));
+    }
+    sys.set_friction_scale(0.0);
+    let mut total =
+        newton
+            .solve(&mut sys, &mut q, STATIC_ITERATIONS)
+            .map_err(|(iterations, update)| SimulationError::StaticEquilibrium {
+                iterations,
+                update,
+            })?;
+    let climb = ClimbPredictor::new(model, op);
+    let (mut reached, mut step) = (0.0_f64, 1.0_f64);
+    let mut trial = q.clone();
+    while reached < 1.0 {
+        let target = (reached + step).min(1.0);
+        sys.set_friction_scale(target);
+        climb.predict(&q, reached, target, &mut trial);
+        let outcome = newton.solve(&mut sys, &mut trial, CONTINUATION_ITERATIONS);
+        if std::env::var_os("DRILLOPT_DEBUG_START").is_some() {
+            eprintln!("stage {reached} -> {target}: {outcome:?}");
+        }
+        match outcome {
+            Ok(iterations) => {
+                total += iterations;
+                q.copy_from(&trial);
+                reached = target;
+                if iterations <= CONTINUATION_ITERATIONS / 4 {
+                    step *= 2.0;
+                }
+            }
+            Err((iterations, _)) => {
+                total += iterations;
+                step *= 0.5;
+                if step < 1.0 / 1024.0 || total > CONTINUATION_BUDGET {
+                    return Err(SimulationError::FrictionContinuation {
+                        reached,
+                        friction,
+                        iterations: total,
+                    });
+                }
+            }
+        }
+    }
+    Ok((q, total))
 }
 
-/// r(q, 0, 0) = 0 at `op` with `effects`: Newton with each lateral update limited to half the gap
-/// and a backtracking line search on the residual norm.
+/// The predictor of the friction continuation: a string lying on the low side of the hole that
+/// turns climbs the wall until the weight's component along the wall balances the friction,
+/// tan φ = μ c_t (per contact point: the normal force N = w cos φ, the friction μ N c_t along the
+/// wall; c_t = Ω R_ext / S the circumferential share of the slip, [`crate::model::SoftString`]).
+/// Raising the friction from μ_a to μ_b turns the resting shape about the hole's axis by
+/// φ(μ_b) − φ(μ_a), against the spin. Newton alone cannot take that step: a lateral update
+/// along the wall is a chord of the hole's circle, and the penalty wall's stiffness turns the
+/// chord's radial error (Δ²/(2 gap)) into forces as large as the weight for Δ of 0.1 mm, so
+/// Newton crept at 0.1 mm per iteration. The predictor turns every node's (v, w) and (θy, θz)
+/// by the angle (a rotation keeps the radii) and projects back on the basis (least squares);
+/// Newton then corrects what the uniform turn misses (the hanging ends, the twist and the
+/// compression of the new friction).
+struct ClimbPredictor<'m> {
+    model: &'m ReducedModel,
+    /// tan φ of the full friction, μ c_t ([`crate::model::SoftString::climb_angle`]).
+    slope: f64,
+    /// Thin QR of Φ (Q, R) for the least-squares projection (None when the law has no lateral
+    /// friction).
+    qr: Option<(DMatrix<f64>, DMatrix<f64>)>,
+}
+
+impl<'m> ClimbPredictor<'m> {
+    fn new(model: &'m ReducedModel, op: OperatingPoint) -> Self {
+        // tan φ of the full friction; a share λ of it climbs to tan φ_λ = λ tan φ.
+        let slope = crate::model::SoftString::steady(&model.string, op)
+            .climb_angle
+            .tan();
+        let qr = (slope != 0.0).then(|| {
+            let qr = model.phi.clone().qr();
+            (qr.q(), qr.r())
+        });
+        ClimbPredictor { model, slope, qr }
+    }
+
+    /// `out` = `q` turned from the climb of friction share `from` to that of `to`.
+    fn predict(&self, q: &DVector<f64>, from: f64, to: f64, out: &mut DVector<f64>) {
+        let Some((qm, rm)) = &self.qr else {
+            out.copy_from(q);
+            return;
+        };
+        // Turn by −(φ_b − φ_a) for Ω > 0: the pipe climbs against its spin (see the doc).
+        let angle = -((to * self.slope).atan() - (from * self.slope).atan());
+        let (sin, cos) = angle.sin_cos();
+        let mut full = &self.model.phi * q;
+        for node in 0..self.model.nodes() {
+            let (iv, iw) = (Dof::V.at(node), Dof::W.at(node));
+            let (ty, tz) = (Dof::ThetaY.at(node), Dof::ThetaZ.at(node));
+            let (v, w) = (full[iv], full[iw]);
+            full[iv] = cos * v - sin * w;
+            full[iw] = sin * v + cos * w;
+            let (a, b) = (full[ty], full[tz]);
+            full[ty] = cos * a - sin * b;
+            full[tz] = sin * a + cos * b;
+        }
+        // min ‖Φ x − full‖: R x = Qᵀ full.
+        match rm.solve_upper_triangular(&(qm.transpose() * &full)) {
+            Some(x) if x.iter().all(|v| v.is_finite()) => out.copy_from(&x),
+            _ => out.copy_from(q),
+        }
+    }
+}
+
+/// r(q, 0, 0) = 0 at `op` with `effects`, from the straight string: see [`EquilibriumNewton`].
 fn equilibrium(
     model: &ReducedModel,
     op: OperatingPoint,
     effects: Effects,
 ) -> Result<(DVector<f64>, usize), SimulationError> {
     let mut sys = Dynamics::new(model, op, effects);
-    let n = model.size();
-    let (mut q, zero) = (DVector::zeros(n), DVector::zeros(n));
-    let mut lu = match &model.jacobian_pattern {
-        Some(pattern) => LinearSolver::Sparse(Box::new(SparseLu::new(pattern))),
-        None => LinearSolver::Dense(DenseLu::new(n)),
-    };
-    let (mut r, mut j) = (DVector::zeros(n), DMatrix::zeros(n, n));
-    let gap = model.string.gap();
-    let mut dq_full = DVector::zeros(model.phi.nrows());
-    let coefficients = JacobianCoefficients {
-        ca: 0.0,
-        cv: 0.0,
-        cq: 1.0,
-    };
-    let mut update = f64::INFINITY;
-    let mut trial = DVector::zeros(n);
-    let mut r_trial = DVector::zeros(n);
-    sys.residual(0.0, &q, &zero, &zero, &mut r);
-    for it in 1..=STATIC_ITERATIONS {
-        let r_norm = r.norm();
-        sys.jacobian(0.0, &q, &zero, &zero, coefficients, true, &mut j);
-        if lu.factor(&j).is_err() {
-            break;
-        }
-        let mut dir = r.clone();
-        lu.solve_in_place(&mut dir);
-        dq_full.gemv(1.0, &model.phi, &dir, 0.0);
-        let largest = (0..model.nodes())
-            .map(|k| dq_full[Dof::V.at(k)].hypot(dq_full[Dof::W.at(k)]))
-            .fold(0.0, f64::max);
-        // Limit the lateral update to half the gap, then backtrack until the residual falls.
-        let mut alpha = if largest > 0.5 * gap {
-            0.5 * gap / largest
-        } else {
-            1.0
-        };
-        loop {
-            trial.copy_from(&q);
-            trial.axpy(-alpha, &dir, 1.0);
-            sys.residual(0.0, &trial, &zero, &zero, &mut r_trial);
-            if r_trial.norm() < r_norm || alpha < 1e-3 {
-                break;
-            }
-            alpha *= 0.5;
-        }
-        q.copy_from(&trial);
-        r.copy_from(&r_trial);
-        update = alpha * largest;
-        if !update.is_finite() {
-            break;
-        }
-        // Converged when the full Newton update is below a picometre (at round-off the line
-        // search may shorten a step that no longer changes anything).
-        if largest < 1e-12 {
-            return Ok((q, it));
-        }
-    }
-    Err(SimulationError::StaticEquilibrium {
-        iterations: STATIC_ITERATIONS,
-        update,
-    })
+    let mut q = DVector::zeros(model.size());
+    let iterations = EquilibriumNewton::new(model)
+        .solve(&mut sys, &mut q, STATIC_ITERATIONS)
+        .map_err(|(iterations, update)| SimulationError::StaticEquilibrium {
+            iterations,
+            update,
+        })?;
+    Ok((q, iterations))
 }
 
-/// Newton iterations allowed for the static equilibrium.
+/// Newton on r(q, 0, 0) = 0 with each lateral update limited to half the gap at any node and a
+/// backtracking line search on the residual norm; its buffers sized once.
+struct EquilibriumNewton<'m> {
+    model: &'m ReducedModel,
+    lu: LinearSolver,
+    r: DVector<f64>,
+    j: DMatrix<f64>,
+    dq_full: DVector<f64>,
+    trial: DVector<f64>,
+    r_trial: DVector<f64>,
+    zero: DVector<f64>,
+}
+
+impl<'m> EquilibriumNewton<'m> {
+    fn new(model: &'m ReducedModel) -> Self {
+        let n = model.size();
+        EquilibriumNewton {
+            model,
+            lu: match &model.jacobian_pattern {
+                Some(pattern) => LinearSolver::Sparse(Box::new(SparseLu::new(pattern))),
+                None => LinearSolver::Dense(DenseLu::new(n)),
+            },
+            r: DVector::zeros(n),
+            j: DMatrix::zeros(n, n),
+            dq_full: DVector::zeros(model.phi.nrows()),
+            trial: DVector::zeros(n),
+            r_trial: DVector::zeros(n),
+            zero: DVector::zeros(n),
+        }
+    }
+
+    /// Iterate from `q` (updated in place) for at most `limit` iterations: the iterations taken,
+    /// or (the iterations, the last lateral update in m) when it did not converge.
+    fn solve(
+        &mut self,
+        sys: &mut Dynamics,
+        q: &mut DVector<f64>,
+        limit: usize,
+    ) -> Result<usize, (usize, f64)> {
+        let model = self.model;
+        let gap = model.string.gap();
+        let coefficients = JacobianCoefficients {
+            ca: 0.0,
+            cv: 0.0,
+            cq: 1.0,
+        };
+        let zero = &self.zero;
+        let mut update = f64::INFINITY;
+        sys.residual(0.0, q, zero, zero, &mut self.r);
+        for it in 1..=limit {
+            let r_norm = self.r.norm();
+            sys.jacobian(0.0, q, zero, zero, coefficients, true, &mut self.j);
+            if self.lu.factor(&self.j).is_err() {
+                return Err((it, update));
+            }
+            let mut dir = self.r.clone();
+            self.lu.solve_in_place(&mut dir);
+            self.dq_full.gemv(1.0, &model.phi, &dir, 0.0);
+            let largest = (0..model.nodes())
+                .map(|k| self.dq_full[Dof::V.at(k)].hypot(self.dq_full[Dof::W.at(k)]))
+                .fold(0.0, f64::max);
+            // Limit the lateral update to half the gap, then backtrack until the residual falls.
+            let mut alpha = if largest > 0.5 * gap {
+                0.5 * gap / largest
+            } else {
+                1.0
+            };
+            loop {
+                self.trial.copy_from(q);
+                self.trial.axpy(-alpha, &dir, 1.0);
+                sys.residual(0.0, &self.trial, zero, zero, &mut self.r_trial);
+                if self.r_trial.norm() < r_norm || alpha < 1e-3 {
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            q.copy_from(&self.trial);
+            self.r.copy_from(&self.r_trial);
+            update = alpha * largest;
+            if std::env::var_os("DRILLOPT_DEBUG_NEWTON").is_some() {
+                let active = sys.contacts.iter().filter(|c| c.active).count();
+                eprintln!(
+                    "  it {it} |r| {r_norm:.3e} -> {:.3e} alpha {alpha} largest {largest:.3e} active {active}",
+                    self.r.norm()
+                );
+            }
+            if !update.is_finite() {
+                return Err((it, update));
+            }
+            // Converged when the full Newton update is below a picometre (at round-off the line
+            // search may shorten a step that no longer changes anything).
+            if largest < 1e-12 {
+                return Ok(it);
+            }
+        }
+        Err((limit, update))
+    }
+}
+
+/// How far the pre-loaded state's friction may depart from the soft-string estimate's before
+/// the start is refused: a factor of 4 either way. The estimate leaves out what a real state
+/// has (the supported ends: a few per cent of a long string's weight, 21 % of the seed's 35 m;
+/// buckling: at the helical load the extra contact force is of the order of the weight), so a
+/// physical state lies within a factor of 2 of it; the non-physical states this catches were
+/// off by 20 to 40 times (a 13.8 MN wall force on a 466 m string weighing 0.7 MN).
+pub const SOFT_STRING_FACTOR: f64 = 4.0;
+
+/// Whether the pre-loaded state observed as `obs` (at rest relative to the rigid motion, every
+/// effect on) matches the soft-string torque and drag of the string ([`crate::model::SoftString`]):
+/// its top torque and top force each within 5 % of the estimate, or with a friction part (the
+/// top load less the bit's and the damping's) within [`SOFT_STRING_FACTOR`] of the estimate's
+/// either way; and the bit's elastic displacement and twist within that factor of the
+/// estimate's (plus a gap and 0.1 rad, for strings whose estimate is near zero).
+pub fn check_against_soft_string(
+    model: &ReducedModel,
+    op: OperatingPoint,
+    obs: &Observation,
+) -> Result<(), SimulationError> {
+    let string = &model.string;
+    let ss = crate::model::SoftString::steady(string, op);
+    let (fa, ft) = ss.friction_part(string.length);
+    let k = SOFT_STRING_FACTOR;
+    let load = |quantity, state: f64, estimate: f64, friction: f64| {
+        let within = (state - estimate).abs() <= 0.05 * estimate.abs();
+        let part = state - (estimate - friction);
+        let friction_ok = friction > 0.0 && part >= friction / k && part <= friction * k;
+        if within || friction_ok {
+            Ok(())
+        } else {
+            Err(SimulationError::NonPhysicalStart {
+                quantity,
+                state,
+                estimate,
+                factor: k,
+            })
+        }
+    };
+    load("top torque (N m)", obs.top_torque, ss.top_torque, ft)?;
+    load("top force (N)", obs.top_force, ss.top_force, fa)?;
+    let displacement = |quantity, state: f64, estimate: f64, floor: f64| {
+        if state.abs() <= k * estimate.abs() + floor {
+            Ok(())
+        } else {
+            Err(SimulationError::NonPhysicalStart {
+                quantity,
+                state,
+                estimate,
+                factor: k,
+            })
+        }
+    };
+    displacement(
+        "elastic bit displacement (m)",
+        obs.bit_u_elastic,
+        ss.bit_displacement,
+        string.gap(),
+    )?;
+    displacement(
+        "elastic bit twist (rad)",
+        obs.bit_theta_elastic,
+        ss.bit_twist,
+        0.1,
+    )
+}
+
+/// Newton iterations allowed for the static equilibrium (and for the frictionless stage of the
+/// pre-loaded start).
 const STATIC_ITERATIONS: usize = 300;
+
+/// Newton iterations allowed for one stage of the friction continuation, and for all of them.
+const CONTINUATION_ITERATIONS: usize = 40;
+const CONTINUATION_BUDGET: usize = 2000;
 
 /// A node counts as having left the wall once its indentation is below −this × gap; its next
 /// contact may then be an impact. Without this hysteresis, nodes resting on the wall chatter across
@@ -501,6 +774,7 @@ pub fn simulate_into<S: Sink>(
         ),
         stress: SectionStress::new(&model.string, element_length),
     };
+    let preloaded = matches!(initial, InitialState::Preloaded);
     let equilibrium = match initial {
         InitialState::Given { q, v } => Ok((q, v, 0)),
         InitialState::StaticEquilibrium => {
@@ -532,7 +806,12 @@ pub fn simulate_into<S: Sink>(
     let mut sys = Dynamics::new(model, op, effects);
     let mut nm = integrator(model, settings.newmark, q0, v0);
     let mut error = None;
-    if !nm.consistent_acceleration(&mut sys) {
+    if preloaded && effects == Effects::ALL {
+        let at_rest = DVector::zeros(n);
+        let obs = sys.observe(&nm.q, &at_rest, &at_rest);
+        error = check_against_soft_string(model, op, &obs).err();
+    }
+    if error.is_none() && !nm.consistent_acceleration(&mut sys) {
         error = Some(SimulationError::NonFinite { time: 0.0 });
     }
     let obs = sys.observe(&nm.q, &nm.v, &nm.a);
@@ -585,14 +864,40 @@ pub fn simulate_into<S: Sink>(
     RunOutput {
         series: rec.sink,
         stats,
-        error,
         final_state: (nm.q.clone(), nm.v.clone()),
         basis: model.basis.counts(),
         max_step,
         envelope: {
             rec.envelope.finish();
+            if error.is_none() {
+                error = non_physical_stress(&model.string, &rec.envelope).err();
+            }
             rec.envelope
         },
+        error,
+    }
+}
+
+/// A von Mises stress this many times the yield strength (or, without one, this many times the
+/// 0.2 % yield strain of steel times E: 2 % strain) is not a state of a steel string: the run
+/// is refused with [`SimulationError::NonPhysicalStress`] (it kept what it recorded).
+pub const NON_PHYSICAL_STRESS_FACTOR: f64 = 10.0;
+
+/// Whether the peak von Mises stress of a run is physical (see [`NON_PHYSICAL_STRESS_FACTOR`]).
+fn non_physical_stress(
+    string: &crate::model::Drillstring,
+    envelope: &StressEnvelope,
+) -> Result<(), SimulationError> {
+    let pipe = &string.pipe;
+    let limit =
+        NON_PHYSICAL_STRESS_FACTOR * pipe.yield_strength.unwrap_or(2e-3 * pipe.youngs_modulus);
+    match envelope.peak() {
+        Some((stress, position)) if stress > limit => Err(SimulationError::NonPhysicalStress {
+            stress_mpa: stress * 1e-6,
+            position_m: position,
+            limit_mpa: limit * 1e-6,
+        }),
+        _ => Ok(()),
     }
 }
 

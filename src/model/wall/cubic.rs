@@ -111,6 +111,10 @@ impl WallContactLaw for Cubic {
     fn friction_torque(&self, normal: f64, radius: f64, spin: f64) -> f64 {
         coulomb_torque(self.friction, self.sign_smoothing, normal, radius, spin)
     }
+
+    fn friction(&self) -> f64 {
+        self.friction
+    }
 }
 
 #[cfg(test)]

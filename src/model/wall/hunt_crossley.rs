@@ -108,6 +108,10 @@ impl WallContactLaw for HuntCrossley {
     fn friction_torque(&self, normal: f64, radius: f64, spin: f64) -> f64 {
         coulomb_torque(self.friction, self.sign_smoothing, normal, radius, spin)
     }
+
+    fn friction(&self) -> f64 {
+        self.friction
+    }
 }
 
 #[cfg(test)]

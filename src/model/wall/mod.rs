@@ -14,9 +14,11 @@
 //! friction torque on θx opposes the spin θ̇x.
 
 mod cubic;
+mod friction;
 mod hunt_crossley;
 
 pub use cubic::Cubic;
+pub use friction::WallFriction;
 pub use hunt_crossley::HuntCrossley;
 
 use super::law::{Chosen, Law, LawEntry, law_kind};
@@ -46,6 +48,9 @@ pub trait WallContactLaw: Law + CloneWallContactLaw {
     /// wall of radius `radius` (the lever arm, m), spinning at `spin` θ̇x (rad/s). The simulator's
     /// Newton tangent leaves this torque out (it is small against the bit torque and smooth).
     fn friction_torque(&self, normal: f64, radius: f64, spin: f64) -> f64;
+    /// The Coulomb friction coefficient μ of the wall, dimensionless (used by
+    /// [`WallFriction::Coulomb`] on the slip of the contact point).
+    fn friction(&self) -> f64;
 }
 
 law_kind!(WallContactLaw, CloneWallContactLaw);
