@@ -21,20 +21,6 @@ pub const BATCHES: usize = 10;
 /// Student's t quantile t₀.₉₇₅ with BATCHES − 1 = 9 degrees of freedom.
 const T_975_9: f64 = 2.262_157;
 
-/// A metric's `summary.json` key and how to read it.
-type Reader = (&'static str, fn(&Metrics) -> f64);
-
-/// The metrics that are time means or shares of time (the ones batch means apply to).
-const MEAN_METRICS: [Reader; 7] = [
-    ("mean_rop_m_per_h", |m| m.mean_rop_m_per_h),
-    ("mean_wob_n", |m| m.mean_wob_n),
-    ("mean_tob_nm", |m| m.mean_tob_nm),
-    ("stick_fraction", |m| m.stick_fraction),
-    ("bit_bounce_fraction", |m| m.bit_bounce_fraction),
-    ("impacts_per_s", |m| m.impacts_per_s),
-    ("axial_power_share", |m| m.axial_power_share),
-];
-
 /// A batch-means interval of one metric.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct BatchInterval {
@@ -57,12 +43,15 @@ pub fn batch_means(
     online.batch_intervals().ok_or(MetricsError::BatchTooShort)
 }
 
-/// The intervals of [`MEAN_METRICS`] from the metrics of the [`BATCHES`] batches.
+/// The intervals of the time-mean metrics (those of the catalogue with
+/// [`super::MetricSpec::batch_interval`]) from the metrics of the [`BATCHES`] batches.
 pub(super) fn intervals(values: &[Metrics]) -> BTreeMap<&'static str, BatchInterval> {
     let n = BATCHES as f64;
-    MEAN_METRICS
+    super::METRICS
         .iter()
-        .map(|&(key, get)| {
+        .filter(|s| s.batch_interval)
+        .map(|s| {
+            let (key, get) = (s.key, s.get);
             let v: Vec<f64> = values.iter().map(get).collect();
             let mean = v.iter().sum::<f64>() / n;
             let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);

@@ -24,19 +24,25 @@
 //! `work_bit` the work done by the rock on the string (≤ 0 while drilling).
 
 mod batch_means;
+pub mod catalogue;
 mod check;
 mod error;
 mod online;
+mod spec;
 mod time_average;
 
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_catalogue;
+#[cfg(test)]
 mod tests_off_bottom;
 
 pub use batch_means::{BATCHES, BatchInterval, batch_means};
+pub use catalogue::METRICS;
 pub use error::MetricsError;
 pub use online::OnlineMetrics;
+pub use spec::{Direction, MetricClass, MetricSpec, Source, Verification};
 
 use crate::sim::TimeSeries;
 use serde::Serialize;
@@ -152,7 +158,11 @@ impl MetricsConfig {
 /// `axial_velocity_fluctuation` is +∞ (0 if the bit is at rest axially: there is no feed to
 /// compare with), `efficiency` and `axial_power_share` are the same ratios (≈ 0: the bit does
 /// almost no work), and the depth of cut 2π V0/Ω of the constraints is 0.
+///
+/// Each field has its row in the catalogue ([`METRICS`]: unit, display, verification), in the
+/// same order.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(test, derive(serde::Deserialize))]
 pub struct Metrics {
     /// Mean rate of penetration (u_bit(t_end) − u_bit(t_s)) / T_w, m/s.
     pub mean_rop_m_s: f64,
@@ -371,51 +381,10 @@ impl Metrics {
         self
     }
 
-    /// Every metric with its `summary.json` key, values as they are (±∞ and NaN included: a
-    /// JSON round trip would turn them into null).
-    pub fn named_values(&self) -> [(&'static str, f64); 34] {
-        [
-            ("mean_rop_m_s", self.mean_rop_m_s),
-            ("mean_rop_m_per_h", self.mean_rop_m_per_h),
-            ("stick_slip_severity", self.stick_slip_severity),
-            ("stick_slip_severity_raw", self.stick_slip_severity_raw),
-            ("stick_fraction", self.stick_fraction),
-            ("max_bit_speed_ratio", self.max_bit_speed_ratio),
-            ("bit_bounce_fraction", self.bit_bounce_fraction),
-            (
-                "axial_velocity_fluctuation",
-                self.axial_velocity_fluctuation,
-            ),
-            ("impacts_per_s", self.impacts_per_s),
-            ("peak_wall_force_n", self.peak_wall_force_n),
-            ("contact_impulse_ns", self.contact_impulse_ns),
-            ("max_radial_over_gap", self.max_radial_over_gap),
-            ("mean_wob_n", self.mean_wob_n),
-            ("mean_tob_nm", self.mean_tob_nm),
-            ("mse_pa", self.mse_pa),
-            ("efficiency", self.efficiency),
-            ("axial_power_share", self.axial_power_share),
-            ("energy_balance_residual", self.energy_balance_residual),
-            ("max_von_mises_pa", self.max_von_mises_pa),
-            ("max_von_mises_at_m", self.max_von_mises_at_m),
-            ("von_mises_safety_factor", self.von_mises_safety_factor),
-            ("von_mises_utilization", self.von_mises_utilization),
-            ("max_compression_n", self.max_compression_n),
-            ("max_torque_nm", self.max_torque_nm),
-            ("fatigue_damage_per_h", self.fatigue_damage_per_h),
-            ("fatigue_life_h", self.fatigue_life_h),
-            ("fatigue_worst_at_m", self.fatigue_worst_at_m),
-            ("buckling_utilization", self.buckling_utilization),
-            (
-                "helical_buckling_utilization",
-                self.helical_buckling_utilization,
-            ),
-            ("buckling_margin", self.buckling_margin),
-            ("buckling_at_m", self.buckling_at_m),
-            ("critical_speed_margin", self.critical_speed_margin),
-            ("critical_speed_proximity", self.critical_speed_proximity),
-            ("bit_damping_ratio", self.bit_damping_ratio),
-        ]
+    /// Every metric with its `summary.json` key, in the catalogue's order ([`METRICS`]), values
+    /// as they are (±∞ and NaN included: a JSON round trip would turn them into null).
+    pub fn named_values(&self) -> Vec<(&'static str, f64)> {
+        METRICS.iter().map(|s| (s.key, (s.get)(self))).collect()
     }
 }
 

@@ -65,7 +65,8 @@ pub struct RawRisk {
     pub metric: String,
     pub statistic: Option<String>,
     pub level: Option<f64>,
-    /// In the metric's unit or with a unit of its dimension (see [`metric_unit`]).
+    /// In the metric's unit or with a unit of its dimension (its row of the metric catalogue,
+    /// [`crate::metrics::MetricSpec::unit`]).
     pub threshold: Option<RawQuantity>,
     pub weight: f64,
 }
@@ -94,7 +95,8 @@ pub struct RawLinear {
 #[serde(deny_unknown_fields)]
 pub struct RawChance {
     pub metric: String,
-    /// In the metric's unit or with a unit of its dimension (see [`metric_unit`]).
+    /// In the metric's unit or with a unit of its dimension (its row of the metric catalogue,
+    /// [`crate::metrics::MetricSpec::unit`]).
     pub threshold: RawQuantity,
     pub max_probability: f64,
 }
@@ -147,6 +149,16 @@ pub enum Quantity {
     Efficiency,
 }
 
+impl Quantity {
+    /// The metric the score is a statistic of (its `summary.json` key).
+    pub fn metric(self) -> &'static str {
+        match self {
+            Quantity::Rop => "mean_rop_m_per_h",
+            Quantity::Efficiency => "efficiency",
+        }
+    }
+}
+
 /// A weighted risk term: weight · statistic(metric) is subtracted from the score.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RiskTerm {
@@ -156,7 +168,7 @@ pub struct RiskTerm {
 }
 
 /// P(metric > threshold) ≤ max_probability, the threshold in the metric's unit (its key's:
-/// [`metric_unit`]).
+/// [`crate::metrics::MetricSpec::unit`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChanceConstraint {
     pub metric: String,
@@ -308,6 +320,16 @@ pub struct Overrides {
 }
 
 impl Study {
+    /// The metrics the score and the constraints are made of: the quantity's, every risk term's
+    /// and every chance constraint's, in that order (repeats kept).
+    pub fn metrics_named(&self) -> Vec<&str> {
+        let chance = self.constraints.iter().flat_map(|k| &k.chance);
+        std::iter::once(self.quantity.metric())
+            .chain(self.risk.iter().map(|r| r.metric.as_str()))
+            .chain(chance.map(|c| c.metric.as_str()))
+            .collect()
+    }
+
     /// The level and resamples of the score's confidence interval: the sequential rule's, else
     /// the defaults ([`CONFIDENCE`], [`RESAMPLES`]).
     pub fn score_interval(&self) -> ScoreInterval {
@@ -364,91 +386,3 @@ impl Study {
         Ok(())
     }
 }
-
-/// Metric names a risk term or chance constraint may use (the keys of `summary.json`'s metrics).
-pub const METRICS: [&str; 34] = [
-    "mean_rop_m_s",
-    "mean_rop_m_per_h",
-    "stick_slip_severity",
-    "stick_slip_severity_raw",
-    "stick_fraction",
-    "max_bit_speed_ratio",
-    "bit_bounce_fraction",
-    "axial_velocity_fluctuation",
-    "impacts_per_s",
-    "peak_wall_force_n",
-    "contact_impulse_ns",
-    "max_radial_over_gap",
-    "mean_wob_n",
-    "mean_tob_nm",
-    "mse_pa",
-    "efficiency",
-    "axial_power_share",
-    "energy_balance_residual",
-    "max_von_mises_pa",
-    "max_von_mises_at_m",
-    "von_mises_safety_factor",
-    "von_mises_utilization",
-    "max_compression_n",
-    "max_torque_nm",
-    "fatigue_damage_per_h",
-    "fatigue_life_h",
-    "fatigue_worst_at_m",
-    "buckling_utilization",
-    "helical_buckling_utilization",
-    "buckling_margin",
-    "buckling_at_m",
-    "critical_speed_margin",
-    "critical_speed_proximity",
-    "bit_damping_ratio",
-];
-
-/// The dimension of a metric's value and the factor from SI to the unit its key names (the value
-/// `summary.json` holds): `(dimension, per_si)` with value = per_si × SI value. 1 for every metric
-/// in SI; `mean_rop_m_per_h` is in m/h, `fatigue_damage_per_h` per hour and `fatigue_life_h` in
-/// hours. Thresholds of risk terms and chance constraints are read with it: `"500 MPa"`,
-/// `"20 kN"` are converted, a bare number is the metric's own value (SI but for those three).
-/// None for a key that is not a metric.
-pub fn metric_unit(key: &str) -> Option<(super::Dimension, f64)> {
-    use super::Dimension::*;
-    const S_PER_H: f64 = 3600.0;
-    Some(match key {
-        "mean_rop_m_s" => (Velocity, 1.0),
-        "mean_rop_m_per_h" => (Velocity, S_PER_H),
-        "stick_slip_severity"
-        | "stick_slip_severity_raw"
-        | "stick_fraction"
-        | "max_bit_speed_ratio"
-        | "bit_bounce_fraction"
-        | "axial_velocity_fluctuation"
-        | "max_radial_over_gap"
-        | "efficiency"
-        | "axial_power_share"
-        | "energy_balance_residual"
-        | "von_mises_safety_factor"
-        | "von_mises_utilization"
-        | "buckling_utilization"
-        | "helical_buckling_utilization"
-        | "buckling_margin"
-        | "critical_speed_margin"
-        | "critical_speed_proximity"
-        | "bit_damping_ratio" => (Dimensionless, 1.0),
-        "impacts_per_s" => (Rate, 1.0),
-        "peak_wall_force_n" | "mean_wob_n" | "max_compression_n" => (Force, 1.0),
-        "contact_impulse_ns" => (Impulse, 1.0),
-        "mean_tob_nm" | "max_torque_nm" => (Torque, 1.0),
-        "mse_pa" | "max_von_mises_pa" => (Pressure, 1.0),
-        "max_von_mises_at_m" | "fatigue_worst_at_m" | "buckling_at_m" => (Length, 1.0),
-        "fatigue_damage_per_h" => (Rate, S_PER_H),
-        "fatigue_life_h" => (Time, 1.0 / S_PER_H),
-        _ => return None,
-    })
-}
-
-/// Metrics that grow with safety: risk terms and chance constraints penalise large values, so
-/// they are refused there, each with the metric to use instead.
-pub const LARGER_IS_SAFER: [(&str, &str); 3] = [
-    ("von_mises_safety_factor", "von_mises_utilization"),
-    ("fatigue_life_h", "fatigue_damage_per_h"),
-    ("buckling_margin", "buckling_utilization"),
-];

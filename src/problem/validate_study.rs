@@ -57,32 +57,18 @@ pub(super) fn study(
                 Some(format!("constraints.chance[{i}].metric"))
             })
     };
-    for (safer, instead) in LARGER_IS_SAFER {
-        if let Some(key) = at(&|m| m == safer) {
-            let hint = match safer {
-                "von_mises_safety_factor" => {
-                    "(peak stress / yield strength = 1 / safety factor), e.g. a chance constraint with threshold 0.5 for a safety factor of at least 2"
-                }
-                "fatigue_life_h" => {
-                    "(Miner damage per hour = 1 / life), e.g. a chance constraint with threshold \"1e-3 1/h\" for a life of at least 1000 h"
-                }
-                _ => {
-                    "(compression / sinusoidal buckling load = 1 − margin), e.g. a chance constraint with threshold 0.5 for a margin of at least 0.5"
-                }
-            };
+    for spec in crate::metrics::METRICS {
+        if let crate::metrics::Direction::Safer { inverse, hint } = spec.direction
+            && let Some(key) = at(&|m| m == spec.key)
+        {
             return Err(c.fail(
                 &key,
                 format!(
-                    "{safer} is larger when safer, and risk terms and chance constraints penalise large values: use {instead} {hint}"
+                    "{} is larger when safer, and risk terms and chance constraints penalise large values: use {inverse} {hint}",
+                    spec.key
                 ),
             ));
         }
-    }
-    if let Some(key) = at(&|m| m == "critical_speed_margin") {
-        return Err(c.fail(
-            &key,
-            "critical_speed_margin is larger when safer, and risk terms and chance constraints penalise large values: use critical_speed_proximity (1 / margin), e.g. a chance constraint with threshold 10 for a margin of at least 10 % from every critical speed".into(),
-        ));
     }
     if model.pipe.yield_strength.is_none()
         && let Some(key) = at(&|m| m == "von_mises_utilization")
@@ -396,12 +382,14 @@ fn statistic(
 }
 
 fn metric(c: &Checker, key: &str, name: &str) -> Result<String, ProblemError> {
-    if METRICS.contains(&name) {
+    use crate::metrics::catalogue;
+    if catalogue::find(name).is_some() {
         Ok(name.to_string())
     } else {
+        let keys: Vec<&str> = catalogue::keys().collect();
         Err(c.fail(
             key,
-            format!("must be one of {}, got {name:?}", METRICS.join(", ")),
+            format!("must be one of {}, got {name:?}", keys.join(", ")),
         ))
     }
 }

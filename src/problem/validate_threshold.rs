@@ -1,23 +1,24 @@
-//! Thresholds of risk terms and chance constraints, read in the unit of their metric
-//! ([`super::study::metric_unit`]): a bare number is the metric's own value, a string carries a
-//! unit of the metric's dimension (`"500 MPa"`, `"20 kN"`, `"1e-4 1/h"`).
+//! Thresholds of risk terms and chance constraints, read in the unit of their metric (its row of
+//! the metric catalogue, [`crate::metrics::MetricSpec`]): a bare number is the metric's own
+//! value, a string carries a unit of the metric's dimension (`"500 MPa"`, `"20 kN"`, `"1e-4 1/h"`).
 
 use super::ProblemError;
 use super::schema::RawQuantity;
-use super::study::metric_unit;
 use super::validate::Checker;
 
-/// A threshold on `metric`, in the metric's unit ([`metric_unit`]): a bare number as it is (the
-/// metric's own value, SI but for the few keys that name another unit), a string with a unit of
-/// the metric's dimension converted; a unit of another dimension, or any unit on a dimensionless
-/// metric, is refused naming the metric's unit (recorded: the value reads as NaN).
+/// A threshold on `metric`, in the metric's unit ([`crate::metrics::MetricSpec::unit`]): a bare
+/// number as it is (the metric's own value, SI but for the few keys that name another unit), a
+/// string with a unit of the metric's dimension converted; a unit of another dimension, or any
+/// unit on a dimensionless metric, is refused naming the metric's unit (recorded: the value reads
+/// as NaN).
 pub(super) fn threshold(
     c: &Checker,
     key: &str,
     metric: &str,
     raw: &RawQuantity,
 ) -> Result<f64, ProblemError> {
-    let (dim, per_si) = metric_unit(metric).expect("every metric has a unit");
+    let spec = crate::metrics::catalogue::find(metric).expect("a metric of the catalogue");
+    let (dim, per_si) = (spec.dimension, spec.per_si);
     let value = match raw {
         RawQuantity::Number(v) => *v,
         RawQuantity::Text(t) => match dim.parse(t) {
@@ -30,7 +31,7 @@ pub(super) fn threshold(
                     format!(
                         "{metric} is {}: a number in {} or a string with one of the units {}",
                         dim.name(),
-                        own_unit(metric, dim),
+                        spec.unit(),
                         units.join(", ")
                     )
                 };
@@ -43,14 +44,4 @@ pub(super) fn threshold(
         return Ok(c.record(key, format!("must be finite, got {value}")));
     }
     Ok(value)
-}
-
-/// The unit a bare threshold of `metric` is read in: the one its key names.
-fn own_unit(metric: &str, dim: super::Dimension) -> &'static str {
-    match metric {
-        "mean_rop_m_per_h" => "m/h",
-        "fatigue_damage_per_h" => "1/h",
-        "fatigue_life_h" => "h",
-        _ => dim.si_unit(),
-    }
 }

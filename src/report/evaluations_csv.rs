@@ -17,7 +17,8 @@
 //! +∞ (the MSE of a bit that did not advance) is written `inf`. The sample values are the
 //! evaluator's own draw (`RobustEvaluator::samples`), each checked against the sample's seed.
 
-use crate::problem::study::{METRICS, Quantity};
+use crate::metrics::METRICS;
+use crate::problem::study::Quantity;
 use crate::problem::{Dimension, Problem};
 use crate::stats::SampleSet;
 use crate::study::{PointEvaluation, SampleOutcome};
@@ -26,22 +27,19 @@ use std::path::Path;
 
 /// The header of a metric's column and the factor from the metric's value (`summary.json`) to
 /// the column's unit: the key without its SI suffix, and the driller's unit of its dimension
-/// (`mean_wob_n` → `mean_wob [kN]`, 1e-3; `mean_rop_m_per_h` → `mean_rop [m/h]`, 1).
+/// (`mean_wob_n` → `mean_wob [kN]`, 1e-3), or the unit the key names when it is not SI
+/// (`mean_rop_m_per_h` → `mean_rop [m/h]`, 1; from the metric catalogue).
 /// `mean_rop_m_s` keeps its key (`mean_rop_m_s [m/s]`): the same ROP as `mean_rop`, in SI.
 pub fn metric_column(key: &str) -> (String, f64) {
     if key == "mean_rop_m_s" {
         return ("mean_rop_m_s [m/s]".into(), 1.0);
     }
-    let (dim, per_si) =
-        crate::problem::study::metric_unit(key).unwrap_or((Dimension::Dimensionless, 1.0));
-    let (unit, scale) = match key {
-        "mean_rop_m_per_h" => ("m/h", 1.0),
-        "fatigue_damage_per_h" => ("1/h", 1.0),
-        "fatigue_life_h" => ("h", 1.0),
-        _ => {
-            let (unit, to_unit) = driller_unit(dim);
-            (unit, to_unit / per_si)
-        }
+    let (unit, scale) = match crate::metrics::catalogue::find(key) {
+        Some(spec) => match spec.own_unit {
+            Some(own) => (own, 1.0),
+            None => driller_unit(spec.dimension),
+        },
+        None => driller_unit(Dimension::Dimensionless),
     };
     let base = ["_m_per_h", "_per_h", "_nm", "_ns", "_pa", "_n", "_m", "_h"]
         .iter()
@@ -80,7 +78,7 @@ pub fn evaluations_csv<'a>(
             (format!("{} [{unit}]", u.key.name()), scale)
         })
         .collect();
-    let metrics: Vec<(String, f64)> = METRICS.iter().map(|k| metric_column(k)).collect();
+    let metrics: Vec<(String, f64)> = METRICS.iter().map(|s| metric_column(s.key)).collect();
 
     let mut out = String::from("omega [rpm],v0 [m/h],sample");
     for (header, _) in params.iter().chain(&metrics) {
@@ -118,9 +116,9 @@ pub fn evaluations_csv<'a>(
                 SampleOutcome::Metrics(m) => (Some(m), p.failure.as_deref()),
                 SampleOutcome::Failed(why) => (None, Some(why.as_str())),
             };
-            for (key, (_, scale)) in METRICS.iter().zip(&metrics) {
+            for (spec, (_, scale)) in METRICS.iter().zip(&metrics) {
                 out.push(',');
-                if let Some(v) = values.and_then(|m| m.get(*key)) {
+                if let Some(v) = values.and_then(|m| m.get(spec.key)) {
                     out.push_str(&number(scale * v));
                 }
             }
@@ -217,7 +215,7 @@ cov = 0.1
     /// A point at 90 rpm, 12 m/h: sample 0 with metrics (MSE +∞), sample 1 failed.
     fn point(draws: &SampleSet) -> PointEvaluation {
         let mut metrics: BTreeMap<String, f64> =
-            METRICS.iter().map(|k| (k.to_string(), 0.5)).collect();
+            METRICS.iter().map(|s| (s.key.to_string(), 0.5)).collect();
         metrics.insert("mse_pa".into(), f64::INFINITY);
         metrics.insert("mean_rop_m_per_h".into(), 12.25);
         PointEvaluation {

@@ -10,63 +10,34 @@ pub use crate::units::{M_PER_H_PER_M_PER_S, RPM_PER_RAD_S};
 /// rad → revolutions.
 pub const REV_PER_RAD: f64 = 1.0 / TAU;
 
-/// How a metric is shown: its name, its display unit and the factor from its SI value.
+/// How a metric is shown: its name, its display unit and the factor from its value (as
+/// `summary.json` holds it: SI but for the keys that name another unit, e.g. m/h).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MetricDisplay<'a> {
     /// Human name, e.g. "mean WOB".
     pub name: &'a str,
     /// Display unit, e.g. "kN"; empty for a dimensionless number.
     pub unit: &'static str,
-    /// Display value = `scale` × SI value (e.g. 1e-3 for N → kN).
+    /// Display value = `scale` × value (e.g. 1e-3 for N → kN).
     pub scale: f64,
 }
 
 impl<'a> MetricDisplay<'a> {
-    /// The display of the metric `key` (a key of `summary.json`); an unknown key is shown as
-    /// itself, unscaled and without unit.
+    /// The display of the metric `key` (a key of `summary.json`, its row of the metric
+    /// catalogue); an unknown key is shown as itself, unscaled and without unit.
     pub fn of(key: &'a str) -> Self {
-        let (name, unit, scale) = match key {
-            "mean_rop_m_per_h" => ("mean ROP", "m/h", 1.0),
-            "mean_rop_m_s" => ("mean ROP", "m/h", M_PER_H_PER_M_PER_S),
-            "stick_slip_severity" => ("stick-slip severity (10 ms average)", "", 1.0),
-            "stick_slip_severity_raw" => ("stick-slip severity (raw bit speed)", "", 1.0),
-            "stick_fraction" => ("time stuck", "%", 100.0),
-            "max_bit_speed_ratio" => ("peak bit speed / \u{3a9}", "", 1.0),
-            "bit_bounce_fraction" => ("time off bottom (bit-bounce)", "%", 100.0),
-            "axial_velocity_fluctuation" => ("axial velocity fluctuation / V0", "", 1.0),
-            "impacts_per_s" => ("wall impacts", "1/s", 1.0),
-            "peak_wall_force_n" => ("peak wall force", "kN", 1e-3),
-            "contact_impulse_ns" => ("wall contact impulse", "kN\u{b7}s", 1e-3),
-            "max_radial_over_gap" => ("peak radial displacement / gap", "", 1.0),
-            "mean_wob_n" => ("mean WOB", "kN", 1e-3),
-            "mean_tob_nm" => ("mean TOB", "kN\u{b7}m", 1e-3),
-            "mse_pa" => ("mechanical specific energy", "MPa", 1e-6),
-            "efficiency" => ("drilling efficiency", "", 1.0),
-            "axial_power_share" => ("axial power share", "", 1.0),
-            "energy_balance_residual" => ("energy balance residual", "", 1.0),
-            "max_von_mises_pa" => ("largest von Mises stress", "MPa", 1e-6),
-            "max_von_mises_at_m" => ("where the von Mises stress peaks", "m", 1.0),
-            "von_mises_safety_factor" => ("von Mises safety factor (yield / peak)", "", 1.0),
-            "von_mises_utilization" => ("von Mises utilization (peak / yield)", "%", 100.0),
-            "max_compression_n" => ("largest compression", "kN", 1e-3),
-            "max_torque_nm" => ("largest torque in the string", "kN·m", 1e-3),
-            "fatigue_damage_per_h" => ("fatigue damage rate (Miner, worst section)", "1/h", 1.0),
-            "fatigue_life_h" => ("fatigue life (worst section)", "h", 1.0),
-            "fatigue_worst_at_m" => ("where fatigue damage is largest", "m", 1.0),
-            "buckling_utilization" => ("compression / sinusoidal buckling load", "%", 100.0),
-            "helical_buckling_utilization" => ("compression / helical buckling load", "%", 100.0),
-            "buckling_margin" => (
-                "buckling margin (1 \u{2212} compression / sinusoidal load)",
-                "",
-                1.0,
-            ),
-            "buckling_at_m" => ("where compression is closest to buckling", "m", 1.0),
-            "critical_speed_margin" => ("distance from the nearest critical speed", "%", 100.0),
-            "critical_speed_proximity" => ("critical speed proximity (1 / margin)", "", 1.0),
-            "bit_damping_ratio" => ("bit negative damping / pipe torsional impedance", "", 1.0),
-            other => (other, "", 1.0),
-        };
-        MetricDisplay { name, unit, scale }
+        match crate::metrics::catalogue::find(key) {
+            Some(s) => MetricDisplay {
+                name: s.name,
+                unit: s.display_unit,
+                scale: s.display_scale,
+            },
+            None => MetricDisplay {
+                name: key,
+                unit: "",
+                scale: 1.0,
+            },
+        }
     }
 
     /// "name [unit]", or the name alone for a dimensionless metric.
@@ -166,7 +137,7 @@ mod tests {
             assert!(!MetricDisplay::of(key).label().contains('_'), "{key}");
         }
         // Every metric of summary.json has a human name (no key shown as itself).
-        for key in crate::problem::study::METRICS {
+        for key in crate::metrics::catalogue::keys() {
             assert_ne!(MetricDisplay::of(key).name, key, "{key}");
         }
         assert_eq!(

@@ -39,36 +39,20 @@ pub struct NumericalCheck {
 }
 
 /// The metric keys the problem's score and constraints depend on: the objective's quantity
-/// (`mean_rop_m_per_h`; efficiency and MSE bring the WOB, TOB and ROP they are computed from,
-/// MSE = WOB/A + 2π N·TOB/(A·ROP), Teale 1965), every risk term's and every chance constraint's
-/// metric. A metric computed from another brings that one: `von_mises_utilization` (peak von
-/// Mises stress / yield strength) and `von_mises_safety_factor` (its inverse) bring
-/// `max_von_mises_pa`, which the basis check compares.
+/// (`mean_rop_m_per_h` or `efficiency`), every risk term's and every chance constraint's metric,
+/// and the compared metrics each is checked through (its row of the metric catalogue,
+/// [`crate::metrics::catalogue::checked_through`]): MSE = WOB/A + 2π N·TOB/(A·ROP) (Teale 1965)
+/// and the efficiency bring the WOB, TOB and ROP; `von_mises_utilization` (peak von Mises stress
+/// / yield strength) brings `max_von_mises_pa`, which the basis check compares.
 pub fn metrics_used(problem: &Problem) -> BTreeSet<String> {
-    use crate::problem::study::Quantity;
-    let study = &problem.study;
     let mut used = BTreeSet::new();
-    let mechanics = ["mean_rop_m_per_h", "mean_wob_n", "mean_tob_nm"];
-    match study.quantity {
-        Quantity::Rop => {
-            used.insert("mean_rop_m_per_h".to_string());
-        }
-        Quantity::Efficiency => used.extend(mechanics.map(String::from)),
-    }
-    let named = study.risk.iter().map(|r| r.metric.as_str()).chain(
-        study
-            .constraints
-            .iter()
-            .flat_map(|k| k.chance.iter().map(|c| c.metric.as_str())),
-    );
-    for m in named {
-        if matches!(m, "mse_pa" | "efficiency") {
-            used.extend(mechanics.map(String::from));
-        }
-        if matches!(m, "von_mises_utilization" | "von_mises_safety_factor") {
-            used.insert("max_von_mises_pa".to_string());
-        }
+    for m in problem.study.metrics_named() {
         used.insert(m.to_string());
+        used.extend(
+            crate::metrics::catalogue::checked_through(m)
+                .into_iter()
+                .map(String::from),
+        );
     }
     used
 }
@@ -180,5 +164,58 @@ mod tests {
         // No constraint on it since the benchmark carries the stiffness damping.
         assert!(!study.contains("bit_damping_ratio"), "{study:?}");
         assert!(!fatigue.contains("max_von_mises_pa"), "{fatigue:?}");
+    }
+
+    /// Every metric a problem may decide on (the objective's quantities, and every metric that
+    /// risk terms and chance constraints accept) is compared by the numerical check, itself or
+    /// through the metrics it is computed from, and is marked used there.
+    #[test]
+    fn every_metric_a_problem_may_use_is_in_the_numerical_check() {
+        use crate::metrics::{METRICS, catalogue};
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("problems/regression/tiny_string.toml");
+        let tiny = std::fs::read_to_string(&path)
+            .unwrap()
+            .replace("[model.pipe]", "[model.pipe]\nyield_strength = \"S-135\"");
+        let with = |extra: String| Problem::from_toml(&(tiny.clone() + &extra), &path).unwrap();
+        let efficiency = tiny.replace("quantity = \"rop\"", "quantity = \"efficiency\"");
+        let mut problems = vec![(
+            "efficiency".to_string(),
+            Problem::from_toml(&efficiency, &path).unwrap(),
+        )];
+        for spec in METRICS.iter().filter(|s| s.penalisable()) {
+            let key = spec.key;
+            let chance = format!(
+                "\n[[constraints.chance]]\nmetric = \"{key}\"\nthreshold = 1.0\nmax_probability = 0.1\n"
+            );
+            let risk = format!("\n[[objective.risk]]\nmetric = \"{key}\"\nweight = 1.0\n");
+            problems.push((key.to_string(), with(chance)));
+            problems.push((key.to_string(), with(risk)));
+        }
+        for (key, problem) in &problems {
+            let compared: Vec<&str> = crate::verify::decision_metrics(problem)
+                .iter()
+                .map(|d| d.key)
+                .collect();
+            let used = metrics_used(problem);
+            let through = catalogue::checked_through(key);
+            assert!(!through.is_empty(), "{key}");
+            for k in through {
+                assert!(
+                    compared.contains(&k),
+                    "{key}: {k} not compared: {compared:?}"
+                );
+                assert!(used.contains(k), "{key}: {k} not marked used: {used:?}");
+            }
+        }
+        // The one the issue found missing, and the ones computed from a compared metric.
+        let radial = &problems
+            .iter()
+            .find(|(k, _)| k == "max_radial_over_gap")
+            .unwrap()
+            .1;
+        assert!(metrics_used(radial).contains("max_radial_over_gap"));
+        let compression = catalogue::checked_through("max_compression_n");
+        assert_eq!(compression, ["max_von_mises_pa"]);
     }
 }

@@ -3,7 +3,7 @@
 //! samples, and the bounds and linear constraints (conventions in [`crate::problem::study`]).
 
 use crate::model::OperatingPoint;
-use crate::problem::study::{Quantity, Study};
+use crate::problem::study::Study;
 use crate::stats::{self, Statistic, sample_seed, splitmix64_mix};
 use crate::units::{to_m_per_h, to_rpm};
 use serde::Serialize;
@@ -249,10 +249,7 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
             eval.mean_metrics.insert(k.clone(), stats::mean(&column(k)));
         }
     }
-    let quantity_column = match study.quantity {
-        Quantity::Rop => column("mean_rop_m_per_h"),
-        Quantity::Efficiency => column("efficiency"),
-    };
+    let quantity_column = column(study.quantity.metric());
     let risk_columns: Vec<Vec<f64>> = study.risk.iter().map(|r| column(&r.metric)).collect();
     let quantity = study.statistic.apply(&quantity_column);
     let mut score = quantity;

@@ -8,6 +8,8 @@
 //! |refined − base| / max(|base|, floor), is compared with its tolerance: 2 % for means (ROP, WOB,
 //! TOB, MSE), 10 % for stick-slip statistics (SSI, stick fraction, peak bit speed ratio). The
 //! floors keep a metric that is (nearly) zero from turning round-off into a large relative change.
+//! Which metrics are compared, with which class and floor, is the metric catalogue's
+//! ([`crate::metrics::METRICS`], [`decision_metrics`]).
 //! This is a refinement study in the sense of Roache (*Verification and Validation in
 //! Computational Science and Engineering*, 1998, ch. 5): one factor at a time, verdict per metric.
 //!
@@ -23,7 +25,7 @@
 //! sensitive (the perturbation alone moves it beyond its limit: the window does not determine
 //! it, and a longer window or a statistic over Monte Carlo samples is needed).
 
-use crate::metrics::{self, Metrics, MetricsConfig};
+use crate::metrics::{self, Metrics, MetricsConfig, Source};
 use crate::model::{BasisSpec, OperatingPoint};
 use crate::problem::Problem;
 use crate::rom::{BasisCounts, BasisError, ReducedModel};
@@ -75,175 +77,42 @@ impl Verdict {
     }
 }
 
-/// The kind of a decision metric, which sets its tolerance.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MetricClass {
-    /// A time mean: tolerance 2 %.
-    Mean,
-    /// A stick-slip statistic (extremes and shares of time): tolerance 10 %.
-    StickSlip,
-    /// An extreme of the section loads along the string (largest stress): tolerance 10 %.
-    Peak,
-    /// A fatigue damage rate: tolerance 46 %, the 10 % of a peak stress carried to the damage
-    /// through the S-N curve's slope, (1.1)^m − 1 at m = 4 (DNV-B1's first branch): Miner damage
-    /// goes as the m-th power of the stress range.
-    Fatigue,
-}
-
-impl MetricClass {
-    /// Largest relative change accepted.
-    pub fn tolerance(self) -> f64 {
-        match self {
-            MetricClass::Mean => 0.02,
-            MetricClass::StickSlip | MetricClass::Peak => 0.10,
-            MetricClass::Fatigue => 0.46,
-        }
-    }
-}
+pub use crate::metrics::MetricClass;
 
 /// A decision metric: its `summary.json` key, class, absolute floor of the relative change, and
-/// how to read it.
+/// how to read it (from its row of the metric catalogue, [`crate::metrics::METRICS`]).
+#[derive(Debug, Clone, Copy)]
 pub struct DecisionMetric {
     pub key: &'static str,
     pub class: MetricClass,
     /// Denominator floor, in the metric's unit.
     pub floor: f64,
     pub get: fn(&Metrics) -> f64,
+    /// What it is computed from: a metric of the model ([`Source::Model`]) is computed for each
+    /// run from that run's model.
+    pub source: Source,
 }
 
-/// The metrics the optimizer ranks operating points by.
-pub const DECISION_METRICS: [DecisionMetric; 7] = [
-    DecisionMetric {
-        key: "mean_rop_m_per_h",
-        class: MetricClass::Mean,
-        floor: 0.01,
-        get: |m| m.mean_rop_m_per_h,
-    },
-    DecisionMetric {
-        key: "mean_wob_n",
-        class: MetricClass::Mean,
-        floor: 100.0,
-        get: |m| m.mean_wob_n,
-    },
-    DecisionMetric {
-        key: "mean_tob_nm",
-        class: MetricClass::Mean,
-        floor: 10.0,
-        get: |m| m.mean_tob_nm,
-    },
-    DecisionMetric {
-        key: "mse_pa",
-        class: MetricClass::Mean,
-        floor: 1e6,
-        get: |m| m.mse_pa,
-    },
-    DecisionMetric {
-        key: "stick_slip_severity",
-        class: MetricClass::StickSlip,
-        floor: 0.1,
-        get: |m| m.stick_slip_severity,
-    },
-    DecisionMetric {
-        key: "stick_fraction",
-        class: MetricClass::StickSlip,
-        floor: 0.05,
-        get: |m| m.stick_fraction,
-    },
-    DecisionMetric {
-        key: "max_bit_speed_ratio",
-        class: MetricClass::StickSlip,
-        floor: 1.0,
-        get: |m| m.max_bit_speed_ratio,
-    },
-];
-
-/// The stress metrics, each checked when the problem's objective or constraints use one of the
-/// keys it answers for ([`STRESS_KEYS`]): stresses are recovered from the basis by mode
-/// displacement and converge more slowly than the motion (on the seed at 60 rpm the basis ×1.5
-/// moves the peak 10.2 %).
-pub const STRESS_METRICS: [DecisionMetric; 3] = [
-    DecisionMetric {
-        key: "max_von_mises_pa",
-        class: MetricClass::Peak,
-        floor: 1e6,
-        get: |m| m.max_von_mises_pa,
-    },
-    // A damage rate below 1e-6 per hour (a life of 10⁶ h, over a century of drilling) is no
-    // damage: the floor keeps round-off cycles from deciding the verdict.
-    DecisionMetric {
-        key: "fatigue_damage_per_h",
-        class: MetricClass::Fatigue,
-        floor: 1e-6,
-        get: |m| m.fatigue_damage_per_h,
-    },
-    DecisionMetric {
-        key: "buckling_utilization",
-        class: MetricClass::Peak,
-        floor: 0.01,
-        get: |m| m.buckling_utilization,
-    },
-];
-
-/// Metrics of the stress envelope, each with the stress metric (of [`STRESS_METRICS`]) that using
-/// it in a problem brings into its verification.
-pub const STRESS_KEYS: [(&str, &str); 13] = [
-    ("max_von_mises_pa", "max_von_mises_pa"),
-    ("max_von_mises_at_m", "max_von_mises_pa"),
-    ("von_mises_safety_factor", "max_von_mises_pa"),
-    ("von_mises_utilization", "max_von_mises_pa"),
-    ("max_compression_n", "max_von_mises_pa"),
-    ("max_torque_nm", "max_von_mises_pa"),
-    ("fatigue_damage_per_h", "fatigue_damage_per_h"),
-    ("fatigue_life_h", "fatigue_damage_per_h"),
-    ("fatigue_worst_at_m", "fatigue_damage_per_h"),
-    ("buckling_utilization", "buckling_utilization"),
-    ("helical_buckling_utilization", "buckling_utilization"),
-    ("buckling_margin", "buckling_utilization"),
-    ("buckling_at_m", "buckling_utilization"),
-];
-
-/// The wall-contact metrics, each checked when the problem's objective or constraints use it:
-/// impacts and contact peaks come from the free spans between supports, which a basis without the
-/// string's resting shape does not hold still (issue 11: the seed's lowest 51 modes gave 952
-/// impacts/s, the finite-element model none). An impact rate below 1 per second (the floor) is a
-/// rare event whose count moves with any perturbation of the trajectory; a wall force below 1 kN is
-/// the weight of a few metres of pipe.
-pub const CONTACT_METRICS: [DecisionMetric; 2] = [
-    DecisionMetric {
-        key: "impacts_per_s",
-        class: MetricClass::Peak,
-        floor: 1.0,
-        get: |m| m.impacts_per_s,
-    },
-    DecisionMetric {
-        key: "peak_wall_force_n",
-        class: MetricClass::Peak,
-        floor: 1000.0,
-        get: |m| m.peak_wall_force_n,
-    },
-];
-
-/// The metrics `problem` decides on: [`DECISION_METRICS`], each of [`STRESS_METRICS`] whose
-/// keys ([`STRESS_KEYS`]) a risk term or a chance constraint uses, and each of
-/// [`CONTACT_METRICS`] used the same way.
-pub fn decision_metrics(problem: &Problem) -> Vec<&'static DecisionMetric> {
-    let study = &problem.study;
-    let chance = study.constraints.iter().flat_map(|k| &k.chance);
-    let keys: Vec<&str> = study
-        .risk
-        .iter()
-        .map(|r| r.metric.as_str())
-        .chain(chance.map(|c| c.metric.as_str()))
-        .collect();
-    let stress: Vec<&str> = keys
-        .iter()
-        .filter_map(|m| STRESS_KEYS.iter().find(|(k, _)| k == m).map(|(_, s)| *s))
-        .collect();
-    DECISION_METRICS
-        .iter()
-        .chain(STRESS_METRICS.iter().filter(|d| stress.contains(&d.key)))
-        .chain(CONTACT_METRICS.iter().filter(|d| keys.contains(&d.key)))
+/// The metrics `problem` decides on, in the catalogue's order: those every verification compares
+/// ([`Verification::Always`](crate::metrics::Verification::Always): ROP, WOB, TOB, MSE and the
+/// stick-slip statistics), and those its objective, risk terms and chance constraints use,
+/// itself or through the metrics it is computed from
+/// ([`crate::metrics::catalogue::compared_for`]; e.g. the von Mises utilization brings the
+/// peak stress: stresses are recovered from the basis by mode displacement and converge more
+/// slowly than the motion).
+pub fn decision_metrics(problem: &Problem) -> Vec<DecisionMetric> {
+    crate::metrics::catalogue::compared_for(problem.study.metrics_named())
+        .into_iter()
+        .filter_map(|spec| {
+            let (class, floor) = spec.compared()?;
+            Some(DecisionMetric {
+                key: spec.key,
+                class,
+                floor,
+                get: spec.get,
+                source: spec.source,
+            })
+        })
         .collect()
 }
 
@@ -437,17 +306,19 @@ pub fn verify_with(
             v
         }))
         .collect();
+    let decisions = decision_metrics(problem);
+    let model_metrics = decisions.iter().any(|d| d.source == Source::Model);
     let results: Vec<(VerifyRun, Metrics)> = variants
         .par_iter()
         .map(|v| {
-            let r = run_variant(problem, &settings, v);
+            let r = run_variant(problem, &settings, v, model_metrics);
             progress(v.name);
             r
         })
         .collect::<Result<_, _>>()?;
     let (base_run, base_metrics) = &results[0];
     let mut verdicts = BTreeMap::new();
-    for d in decision_metrics(problem) {
+    for d in &decisions {
         let value = (d.get)(base_metrics);
         let mut refined = BTreeMap::new();
         let (mut max_rel_change, mut worst) = (0.0_f64, "none");
@@ -515,10 +386,13 @@ pub fn relative_change(r: f64, value: f64, floor: f64) -> f64 {
     }
 }
 
+/// One run and its metrics; with `model_metrics`, also those of its model at its operating point
+/// (critical speed margin, bit damping ratio: NaN otherwise).
 fn run_variant(
     problem: &Problem,
     settings: &VerifySettings,
     v: &Variant,
+    model_metrics: bool,
 ) -> Result<(VerifyRun, Metrics), VerifyError> {
     let model = if v.unreduced {
         ReducedModel::unreduced(&problem.model, v.elements)
@@ -558,13 +432,25 @@ fn run_variant(
         problem.model.borehole_radius,
         settings.settling,
     );
-    let metrics =
+    let mut metrics =
         metrics::of_run(&out, &config, problem.model.pipe.yield_strength).map_err(|source| {
             VerifyError::Metrics {
                 run: v.name,
                 source,
             }
         })?;
+    if model_metrics {
+        // As `simulate` and the studies compute them; a string without a resting state has no
+        // margin (NaN: not converged).
+        let margin = crate::campbell::critical_speed_margin(
+            &model,
+            problem.campbell.excitation_multiple,
+            op.omega,
+        );
+        metrics = metrics
+            .with_critical_speed_margin(margin.unwrap_or(f64::NAN))
+            .with_bit_damping_ratio(crate::model::bit_damping_ratio(&problem.model, op));
+    }
     Ok((
         VerifyRun {
             name: v.name,

@@ -60,17 +60,9 @@ fn evaluated(points: &[PointEvaluation]) -> Vec<EvaluatedPoint> {
         .collect()
 }
 
-/// The metric key the objective's quantity is a statistic of.
-fn quantity_metric(q: Quantity) -> &'static str {
-    match q {
-        Quantity::Rop => "mean_rop_m_per_h",
-        Quantity::Efficiency => "efficiency",
-    }
-}
-
 /// The unit of the score: that of the quantity (risk weights convert into it).
 fn score_label(q: Quantity) -> String {
-    let d = MetricDisplay::of(quantity_metric(q));
+    let d = MetricDisplay::of(q.metric());
     if d.unit.is_empty() {
         "robust score".to_owned()
     } else {
@@ -128,7 +120,7 @@ fn objective_mark(s: &Statistic, value: f64, d: &MetricDisplay, mean: f64) -> Ma
 /// One row per metric that matters at `p`: the objective's quantity and risk metrics, the chance
 /// metrics, then a few more; samples and marks in the metric's display unit.
 fn metric_rows(study: &Study, p: &PointEvaluation) -> Vec<MetricRow> {
-    let quantity = quantity_metric(study.quantity);
+    let quantity = study.quantity.metric();
     let chance = study
         .constraints
         .as_ref()

@@ -47,9 +47,7 @@ pub(in crate::cli) fn point(study: &Study, omega_rpm: f64, v0_m_per_h: f64) -> P
         .collect();
     let column = |key: &str| -> Vec<f64> { samples.iter().map(|m| m[key]).collect::<Vec<_>>() };
     let mean = |key: &str| Statistic::Mean.apply(&column(key));
-    let quantity = study
-        .statistic
-        .apply(&column(quantity_metric(study.quantity)));
+    let quantity = study.statistic.apply(&column(study.quantity.metric()));
     let risk: Vec<RiskValue> = study
         .risk
         .iter()
