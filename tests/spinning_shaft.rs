@@ -168,7 +168,7 @@ impl Shaft {
 #[test]
 fn the_clamped_pinned_frequency_equation_has_its_limits() {
     let mut s = Shaft::new(RIGID_SHEAR * 1e6, LENGTH);
-    s.rho_i = 1e-12 * s.rho_i;
+    s.rho_i *= 1e-12;
     for n in 1..=3 {
         let bl = common::clamped_pinned_root(n);
         let expected = bl * bl / (LENGTH * LENGTH) * (s.ei / s.m).sqrt();
