@@ -15,8 +15,8 @@
 //!   f_y = 2ρI (θ̇x θ̇z − θy θ̇z²)
 //!   f_z = 2ρI (−θ̇x θ̇y − θy θ̈x + 2 θy θ̇y θ̇z + θy² θ̈z)
 //!
-//! (the paper's (11) with θy → −θy in f_x, f_z and in the sign of f_y; its fifth line repeats the
-//! fourth and is dropped). Here θ̇x is the absolute spin rate, rigid Ω included: at rest the
+//! (the paper's (11) with θy replaced by −θy, f_y, the force conjugate to θy, changing sign with
+//! it; the paper's fifth line repeats the fourth and is dropped). Here θ̇x is the absolute spin rate, rigid Ω included: at rest the
 //! gyroscopic coupling of the two bending planes is f_y = 2ρIΩ θ̇z, f_z = −2ρIΩ θ̇y, the rate of
 //! change of the spin's angular momentum 2ρIΩ (1, θz, −θy) as the axis tilts (Nelson 1980;
 //! Lalanne & Ferraris 1998): forward whirl stiffens with Ω.
