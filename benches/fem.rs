@@ -111,12 +111,12 @@ fn dense_inertia_force_and_energy(
         let (th, rate, acc) = (n * d, n * v, n * a);
         let (ty, wx, wy, wz) = (th[1], rate[0], rate[1], rate[2]);
         let p = Vector3::new(
-            k * (wy * wz + ty * acc[2]),
-            -k * (wx * wz + ty * wz * wz),
-            k * (wx * wy + ty * acc[0] + 2.0 * ty * wy * wz + ty * ty * acc[2]),
+            -k * (wy * wz + ty * acc[2]),
+            k * (wx * wz - ty * wz * wz),
+            k * (-wx * wy - ty * acc[0] + 2.0 * ty * wy * wz + ty * ty * acc[2]),
         );
         f.gemv_tr(w, n, &p, 1.0);
-        t += w * rho_i * (2.0 * ty * wx * wz + ty * ty * wz * wz);
+        t += w * rho_i * (-2.0 * ty * wx * wz + ty * ty * wz * wz);
     }
     (f, t)
 }

@@ -16,9 +16,10 @@
 //!   restoring "pendulum" stiffness of a pipe lying on the low side of the hole, w/r_c per unit
 //!   length in Dawson & Paslay, *Drillpipe buckling in inclined holes*, JPT 36, 1984);
 //! - G = Φᵀ G Φ per unit spin rate (skew-symmetric, [`ReducedModel::gyroscopic`]): the
-//!   gyroscopic coupling 2ρI θ̇x θy θ̇z of the kinetic energy (MODEL.md §3) about the rigid spin
-//!   θ̇x = Ω. The nonlinear inertia has no stiffness term at rest (no Ω² term: the kinetic energy
-//!   holds θ̇x only through (θ̇x + θy θ̇z)²), so nothing else depends on Ω;
+//!   gyroscopic coupling −2ρI θ̇x θy θ̇z of the kinetic energy (MODEL.md §3) about the rigid spin
+//!   θ̇x = Ω, which makes forward whirl stiffen with Ω. The nonlinear inertia has no stiffness
+//!   term at rest (no Ω² term: the kinetic energy holds θ̇x only through (θ̇x − θy θ̇z)²), so
+//!   nothing else depends on Ω;
 //! - D = Φᵀ (c M_pipe + β K) Φ, the structural damping (β: `[model.pipe] stiffness_damping`),
 //!   only when [`Linearisation::damping`] is set.
 //!

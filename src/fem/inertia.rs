@@ -1,15 +1,25 @@
-//! Nonlinear (gyroscopic) inertia, Eq. (11), from the kinetic energy of MODEL.md §3.
+//! Nonlinear (gyroscopic) inertia, Eq. (11) with the sign of MODEL.md §3 [settled, turn 3].
 //!
-//! T = ½∫[… + 2ρI(θ̇x + θy θ̇z)²] dx; the part not in the mass operator (7) is
-//! T_nl = ∫ ρI (2 θy θ̇x θ̇z + θy² θ̇z²) dx. Its Lagrange terms d/dt(∂T_nl/∂θ̇) − ∂T_nl/∂θ give the
-//! inertial force per length that stands on the left-hand side with M Q̈ (this is −F_KE):
+//! T = ½∫[… + 2ρI(θ̇x − θy θ̇z)²] dx: θ̇x − θy θ̇z is the spin rate of the section tilted by
+//! (θy, θz) (rotation sequence R_z R_y R_x, up to cubic terms). The paper's Eq. (11) follows from
+//! (θ̇x + θy θ̇z)², whose cross term has the wrong sign (with it forward whirl softens with Ω). The
+//! part not in the mass operator (7) (which holds ρI θ̇x², the polar inertia 2ρI) is
 //!
-//!   f_x = 2ρI (θ̇y θ̇z + θy θ̈z)
-//!   f_y = −2ρI (θ̇x θ̇z + θy θ̇z²)
-//!   f_z = 2ρI (θ̇x θ̇y + θy θ̈x + 2 θy θ̇y θ̇z + θy² θ̈z)
+//!   T_nl = ∫ ρI (−2 θy θ̇x θ̇z + θy² θ̇z²) dx,
 //!
-//! (the paper's fifth line of (11) repeats the fourth and is dropped). Here θ̇x is the absolute
-//! spin rate, rigid Ω included: 2ρIΩ θ̇ is the gyroscopic coupling of the two bending planes.
+//! with ∂T_nl/∂θ̇ = ρI (−2 θy θ̇z, 0, −2 θy θ̇x + 2 θy² θ̇z) and
+//! ∂T_nl/∂θ = ρI (0, −2 θ̇x θ̇z + 2 θy θ̇z², 0). Its Lagrange terms d/dt(∂T_nl/∂θ̇) − ∂T_nl/∂θ give
+//! the inertial force per length that stands on the left-hand side with M Q̈ (this is −F_KE):
+//!
+//!   f_x = −2ρI (θ̇y θ̇z + θy θ̈z)
+//!   f_y = 2ρI (θ̇x θ̇z − θy θ̇z²)
+//!   f_z = 2ρI (−θ̇x θ̇y − θy θ̈x + 2 θy θ̇y θ̇z + θy² θ̈z)
+//!
+//! (the paper's (11) with θy replaced by −θy, f_y, the force conjugate to θy, changing sign with
+//! it; the paper's fifth line repeats the fourth and is dropped). Here θ̇x is the absolute spin rate, rigid Ω included: at rest the
+//! gyroscopic coupling of the two bending planes is f_y = 2ρIΩ θ̇z, f_z = −2ρIΩ θ̇y, the rate of
+//! change of the spin's angular momentum 2ρIΩ (1, θz, −θy) as the axis tilts (Nelson 1980;
+//! Lalanne & Ferraris 1998): forward whirl stiffens with Ω.
 //!
 //! As for the strains, the rows (θx, θy, θz) of the interpolation are kept by their non-zeros and
 //! the four Gauss points are evaluated together, one per lane ([`Lanes`]).
@@ -158,17 +168,17 @@ impl ElementInertia {
         let k = 2.0 * self.rho_i;
         let (ty, wx, wy, wz) = (th[1], rate[0], rate[1], rate[2]);
         [
-            (wy * wz + ty * acc[2]) * k,
-            (wx * wz + ty * wz * wz) * -k,
-            (wx * wy + ty * acc[0] + ty * 2.0 * wy * wz + ty * ty * acc[2]) * k,
+            (wy * wz + ty * acc[2]) * -k,
+            (wx * wz - ty * wz * wz) * k,
+            (ty * 2.0 * wy * wz + ty * ty * acc[2] - wx * wy - ty * acc[0]) * k,
         ]
     }
 
-    /// T_nl per length over ρI: 2 θy θ̇x θ̇z + θy² θ̇z².
+    /// T_nl per length over ρI: −2 θy θ̇x θ̇z + θy² θ̇z².
     #[inline(always)]
     fn point_energy<T: Real>(th: &[T; 3], rate: &[T; 3]) -> T {
         let (ty, wx, wz) = (th[1], rate[0], rate[2]);
-        ty * 2.0 * wx * wz + ty * ty * wz * wz
+        ty * ty * wz * wz - ty * 2.0 * wx * wz
     }
 
     fn point_tangent(&self, th: &[f64; 3], rate: &[f64; 3], acc: &[f64; 3]) -> PointTangent {
@@ -176,21 +186,21 @@ impl ElementInertia {
         let (ty, wx, wy, wz) = (th[1], rate[0], rate[1], rate[2]);
         #[rustfmt::skip]
         let position = Matrix3::new(
-            0.0, k * acc[2], 0.0,
+            0.0, -k * acc[2], 0.0,
             0.0, -k * wz * wz, 0.0,
-            0.0, k * (acc[0] + 2.0 * wy * wz + 2.0 * ty * acc[2]), 0.0,
+            0.0, k * (2.0 * wy * wz + 2.0 * ty * acc[2] - acc[0]), 0.0,
         );
         #[rustfmt::skip]
         let velocity = Matrix3::new(
-            0.0, k * wz, k * wy,
-            -k * wz, 0.0, -k * (wx + 2.0 * ty * wz),
-            k * wy, k * (wx + 2.0 * ty * wz), k * 2.0 * ty * wy,
+            0.0, -k * wz, -k * wy,
+            k * wz, 0.0, k * (wx - 2.0 * ty * wz),
+            -k * wy, -k * (wx - 2.0 * ty * wz), k * 2.0 * ty * wy,
         );
         #[rustfmt::skip]
         let acceleration = Matrix3::new(
-            0.0, 0.0, k * ty,
+            0.0, 0.0, -k * ty,
             0.0, 0.0, 0.0,
-            k * ty, 0.0, k * ty * ty,
+            -k * ty, 0.0, k * ty * ty,
         );
         PointTangent {
             position,
@@ -319,6 +329,52 @@ mod tests {
         }
     }
 
+    /// The sign of T_nl from the kinematics of a rotating section, independently of the formulas:
+    /// with the orientation R = R_z(θz) R_y(θy) R_x(θx), whose axis R e_x = (cos θz cos θy,
+    /// sin θz cos θy, −sin θy) is (1, v′, w′) for θz = v′, θy = −w′ (the model's bending
+    /// kinematics, MODEL.md §2–3), the spin about the section's own axis is the x component of
+    /// the body angular velocity RᵀṘ, exactly θ̇x − θ̇z sin θy. So ρI((RᵀṘ)_zy² − θ̇x²) must be
+    /// T_nl per length up to the terms of sin θy beyond θy (θ̇x θ̇z θy³/3, relative θy²/6 < 1.5e-6
+    /// here, against the scale 2|θy θ̇x θ̇z|), where the paper's sign (θ̇x + θy θ̇z) is off by 200 %.
+    #[test]
+    fn nonlinear_kinetic_energy_is_the_spin_of_the_tilted_section() {
+        use nalgebra::{Rotation3, Unit};
+        let skew = |a: Vector3<f64>| a.cross_matrix();
+        let mut rng = Rng(5);
+        for case in 0..20 {
+            let th = [
+                rng.uniform(-400.0, 400.0),
+                rng.uniform(-3e-3, 3e-3),
+                rng.uniform(-3e-3, 3e-3),
+            ];
+            let rate = [
+                2.0 * std::f64::consts::PI + rng.uniform(-5.0, 5.0),
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+            ];
+            let axes = [Vector3::x(), Vector3::y(), Vector3::z()];
+            let rot: [_; 3] = std::array::from_fn(|i| {
+                Rotation3::from_axis_angle(&Unit::new_normalize(axes[i]), th[i]).into_inner()
+            });
+            // Ṙ_i = θ̇_i R_i [e_i]×, and R = R_z R_y R_x by the product rule.
+            let dot: [_; 3] = std::array::from_fn(|i| rot[i] * skew(axes[i]) * rate[i]);
+            let r = rot[2] * rot[1] * rot[0];
+            let r_dot =
+                dot[2] * rot[1] * rot[0] + rot[2] * dot[1] * rot[0] + rot[2] * rot[1] * dot[0];
+            let body = r.transpose() * r_dot;
+            let spin = body[(2, 1)];
+            assert!((body[(2, 1)] + body[(1, 2)]).abs() < 1e-12, "RᵀṘ is skew");
+            assert!((spin - (rate[0] - rate[2] * th[1].sin())).abs() < 1e-12);
+            let kinematic = spin * spin - rate[0] * rate[0];
+            let model = ElementInertia::point_energy(&th, &rate);
+            let scale = (2.0 * th[1] * rate[0] * rate[2]).abs();
+            assert!(
+                (model - kinematic).abs() < 2e-6 * scale + 1e-15,
+                "case {case}: T_nl/ρI {model} vs kinematic {kinematic}"
+            );
+        }
+    }
+
     #[test]
     fn tangents_match_finite_differences_and_gyroscopic_matrix_is_skew() {
         let e = element();
@@ -381,13 +437,14 @@ mod tests {
             for (n, w) in rows.iter().zip(ws) {
                 let (th, rate, acc) = (n * d, n * v, n * a);
                 let (ty, wx, wy, wz) = (th[1], rate[0], rate[1], rate[2]);
+                // The formulas of the module documentation, through the dense rows.
                 let p = Vector3::new(
-                    k * (wy * wz + ty * acc[2]),
-                    -k * (wx * wz + ty * wz * wz),
-                    k * (wx * wy + ty * acc[0] + 2.0 * ty * wy * wz + ty * ty * acc[2]),
+                    -k * (wy * wz + ty * acc[2]),
+                    k * (wx * wz - ty * wz * wz),
+                    k * (-wx * wy - ty * acc[0] + 2.0 * ty * wy * wz + ty * ty * acc[2]),
                 );
                 f_ref += n.transpose() * p * w;
-                t_ref += w * 0.5 * k * (2.0 * ty * wx * wz + ty * ty * wz * wz);
+                t_ref += w * 0.5 * k * (-2.0 * ty * wx * wz + ty * ty * wz * wz);
                 let t = e.point_tangent(&th.into(), &rate.into(), &acc.into());
                 for (o, m) in tangents_ref
                     .iter_mut()
