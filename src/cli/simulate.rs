@@ -393,6 +393,11 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64) {
             m.mean_tob_nm / 1e3,
             m.energy_balance_residual
         );
+        println!(
+            "  top drive: torque {:.2} kN·m | force {:.1} kN (surface torque and push: the bit's plus the wall friction and damping along the string)",
+            m.mean_top_torque_nm / 1e3,
+            m.mean_top_force_n / 1e3
+        );
         println!("  {}", integrity_line(m));
         if let Some(w) = yield_warning(m) {
             eprintln!("{w}");
@@ -415,16 +420,18 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64) {
         println!("  metrics unavailable: {e}");
     }
     if let Some(ci) = &s.confidence_95 {
-        let (rop, stick, tob) = (
+        let (rop, stick, tob, top) = (
             ci["mean_rop_m_per_h"],
             ci["stick_fraction"],
             ci["mean_tob_nm"],
+            ci["mean_top_torque_nm"],
         );
         println!(
-            "  95 % batch-means intervals: ROP ± {:.3} m/h | stick ± {:.1} % | TOB ± {:.3} kN·m",
+            "  95 % batch-means intervals: ROP ± {:.3} m/h | stick ± {:.1} % | TOB ± {:.3} kN·m | top torque ± {:.3} kN·m",
             rop.half_width,
             100.0 * stick.half_width,
-            tob.half_width / 1e3
+            tob.half_width / 1e3,
+            top.half_width / 1e3
         );
     }
     println!("  results in {}", out.display());

@@ -267,6 +267,16 @@ pub const METRICS: &[MetricSpec] = &[
     .shown("bit negative damping / pipe torsional impedance", "", 1.0)
     .direction(Worse)
     .source(Source::Model),
+    MetricSpec::new("mean_top_torque_nm", Torque, WhenUsed(Mean, 10.0), |m| {
+        m.mean_top_torque_nm
+    })
+    .shown("mean top-drive torque", "kN\u{b7}m", 1e-3)
+    .batch_interval(),
+    MetricSpec::new("mean_top_force_n", Force, WhenUsed(Mean, 100.0), |m| {
+        m.mean_top_force_n
+    })
+    .shown("mean top-drive force", "kN", 1e-3)
+    .batch_interval(),
 ];
 
 /// The row of the metric `key` (a key of `summary.json`).

@@ -289,6 +289,13 @@ pub struct Metrics {
     /// (`[model.pipe] stiffness_damping`) bounds them (README, "Converged model"). It depends on
     /// the model and the operating point only. NaN when not computed.
     pub bit_damping_ratio: f64,
+    /// Time-weighted mean torque the top drive applies to turn the string at Ω (the surface
+    /// torque), N·m: the torque on bit plus the wall friction and damping along the string
+    /// (soft-string torque and drag, [`crate::model::SoftString`]).
+    pub mean_top_torque_nm: f64,
+    /// Time-weighted mean axial force the top drive applies to feed the string at V0, N
+    /// (positive pushing): the weight on bit plus the axial drag along the string.
+    pub mean_top_force_n: f64,
 }
 
 impl Metrics {
@@ -330,6 +337,8 @@ impl Metrics {
             critical_speed_margin: n,
             critical_speed_proximity: n,
             bit_damping_ratio: n,
+            mean_top_torque_nm: n,
+            mean_top_force_n: n,
         }
     }
 

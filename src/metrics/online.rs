@@ -54,6 +54,8 @@ const BOUNCE: usize = 3;
 const WALL: usize = 4;
 const AXIAL: usize = 5;
 const TORSIONAL: usize = 6;
+const TOP_TORQUE: usize = 7;
+const TOP_FORCE: usize = 8;
 
 /// The metrics of one sub-series (the whole run, or one batch with the τ before it): the
 /// samples from the first at or after `from` to the last at or before `until`, its analysis
@@ -72,8 +74,8 @@ struct Window {
     samples: usize,
     first: Option<Ends>,
     last: Option<Ends>,
-    prev: Option<(f64, [f64; 7])>,
-    sums: [f64; 7],
+    prev: Option<(f64, [f64; 9])>,
+    sums: [f64; 9],
     spin: (f64, f64),
     raw: (f64, f64),
     wall_force_max: f64,
@@ -96,7 +98,7 @@ impl Window {
             first: None,
             last: None,
             prev: None,
-            sums: [-0.0; 7],
+            sums: [-0.0; 9],
             spin: (f64::NEG_INFINITY, f64::INFINITY),
             raw: (f64::NEG_INFINITY, f64::INFINITY),
             wall_force_max: f64::NEG_INFINITY,
@@ -152,6 +154,8 @@ impl Window {
             v[at::WALL_FORCE_TOTAL],
             wob * v[at::BIT_VELOCITY],
             v[at::TORQUE_ON_BIT] * raw,
+            v[at::TOP_TORQUE],
+            v[at::TOP_FORCE],
         ];
         if let Some((t_prev, y_prev)) = &self.prev {
             let h = t - t_prev;
@@ -239,6 +243,8 @@ impl Window {
             energy_balance_residual: self
                 .run_first
                 .map_or(f64::NAN, |a| energy_balance_residual(&a, &last)),
+            mean_top_torque_nm: self.sums[TOP_TORQUE] / window,
+            mean_top_force_n: self.sums[TOP_FORCE] / window,
             ..Metrics::unset()
         })
     }

@@ -216,6 +216,8 @@ pub mod at {
     pub const BIT_ANGULAR_VELOCITY: usize = 4;
     pub const WEIGHT_ON_BIT: usize = 5;
     pub const TORQUE_ON_BIT: usize = 6;
+    pub const TOP_FORCE: usize = 7;
+    pub const TOP_TORQUE: usize = 8;
     pub const WALL_FORCE_TOTAL: usize = 9;
     pub const WALL_FORCE_MAX: usize = 10;
     pub const MAX_RADIAL_OVER_GAP: usize = 11;
@@ -364,6 +366,8 @@ mod tests {
             (at::BIT_ANGULAR_VELOCITY, "bit_angular_velocity"),
             (at::WEIGHT_ON_BIT, "weight_on_bit"),
             (at::TORQUE_ON_BIT, "torque_on_bit"),
+            (at::TOP_FORCE, "top_force"),
+            (at::TOP_TORQUE, "top_torque"),
             (at::WALL_FORCE_TOTAL, "wall_force_total"),
             (at::WALL_FORCE_MAX, "wall_force_max"),
             (at::MAX_RADIAL_OVER_GAP, "max_radial_over_gap"),
