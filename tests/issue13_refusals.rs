@@ -123,7 +123,10 @@ fn an_unknown_key_of_the_bit_table_lists_every_accepted_key() {
     one_refusal(
         &text,
         "model.wall.stiffnes",
-        &["accepts law and the parameters", "stiffness"],
+        &[
+            "accepts law, friction_law, slip_smoothing and the parameters",
+            "stiffness",
+        ],
     );
 }
 

@@ -28,14 +28,14 @@ const COLLARS: &str = include_str!("../problems/long_collars.toml");
 fn collars(mu: f64, length: f64, elements: usize) -> Problem {
     let text = COLLARS
         .replace(
-            "friction = 1e-5                 # mu_FS",
-            &format!("friction = {mu}"),
+            "friction = 0.3                  # Coulomb",
+            &format!("friction = {mu} #"),
         )
         .replace("length = \"466 m\"", &format!("length = \"{length} m\""))
         .replace("elements = 150 ", &format!("elements = {elements} "))
         .replace("probes = [\"233 m\"]", "probes = [\"10 m\"]");
     assert!(
-        text.contains(&format!("friction = {mu}\n")),
+        text.contains(&format!("friction = {mu} #")),
         "the edit took"
     );
     Problem::from_toml(&text, std::path::Path::new("long_collars_edited.toml")).unwrap()
@@ -46,6 +46,8 @@ struct Raw;
 impl Raw {
     const RHO: f64 = 7900.0;
     const RHO_F: f64 = 1200.0;
+    /// The annulus mud: it buoys the string.
+    const RHO_A: f64 = 1200.0;
     const R_EXT: f64 = 0.085725;
     const R_INT: f64 = 0.0357;
     const G: f64 = 9.81;
@@ -56,10 +58,11 @@ impl Raw {
     fn v0() -> f64 {
         32.0 / 3600.0
     }
-    /// Buoyed weight per length (no annulus mud: pipe and inner mud), N/m.
+    /// Buoyed weight per length (pipe and inner mud less the annulus mud displaced), N/m.
     fn weight() -> f64 {
         (Self::RHO * PI * (Self::R_EXT.powi(2) - Self::R_INT.powi(2))
-            + Self::RHO_F * PI * Self::R_INT.powi(2))
+            + Self::RHO_F * PI * Self::R_INT.powi(2)
+            - Self::RHO_A * PI * Self::R_EXT.powi(2))
             * Self::G
     }
     /// (c_a, c_t).

@@ -98,7 +98,10 @@ fn the_always_compared_and_the_interval_metrics_are_unchanged() {
             "impacts_per_s",
             "mean_wob_n",
             "mean_tob_nm",
-            "axial_power_share"
+            "axial_power_share",
+            // Added at revision 9 (surface torque and push, MODEL.md §11.2).
+            "mean_top_torque_nm",
+            "mean_top_force_n"
         ]
     );
     // A use brings what the metric is computed from.

@@ -123,7 +123,7 @@ pub enum SimulationError {
         iterations: usize,
     },
     #[error(
-        "the run reached a state that no steel string survives: a von Mises stress of {stress_mpa:.0} MPa at x = {position_m:.2} m, above {limit_mpa:.0} MPa (10 times the yield strength, or 2 % strain without one); check the inputs, the start and the basis (drillopt verify)"
+        "the run reached a state that no steel string survives: a von Mises stress of {stress_mpa:.0} MPa at x = {position_m:.2} m, above {limit_mpa:.0} MPa (10 times the yield strength and 2 % strain); check the inputs, the start and the basis (drillopt verify)"
     )]
     NonPhysicalStress {
         stress_mpa: f64,
@@ -878,9 +878,10 @@ pub fn simulate_into<S: Sink>(
     }
 }
 
-/// A von Mises stress this many times the yield strength (or, without one, this many times the
-/// 0.2 % yield strain of steel times E: 2 % strain) is not a state of a steel string: the run
-/// is refused with [`SimulationError::NonPhysicalStress`] (it kept what it recorded).
+/// A von Mises stress above this many times the yield strength, and above 2 % strain times E
+/// (ten times the 0.2 % yield strain of steel: a limit that a made-up yield strength cannot
+/// lower), is not a state of a steel string: the run is refused with
+/// [`SimulationError::NonPhysicalStress`] (it kept what it recorded).
 pub const NON_PHYSICAL_STRESS_FACTOR: f64 = 10.0;
 
 /// Whether the peak von Mises stress of a run is physical (see [`NON_PHYSICAL_STRESS_FACTOR`]).
@@ -889,8 +890,10 @@ fn non_physical_stress(
     envelope: &StressEnvelope,
 ) -> Result<(), SimulationError> {
     let pipe = &string.pipe;
-    let limit =
-        NON_PHYSICAL_STRESS_FACTOR * pipe.yield_strength.unwrap_or(2e-3 * pipe.youngs_modulus);
+    let strain_limit = 0.02 * pipe.youngs_modulus;
+    let limit = pipe.yield_strength.map_or(strain_limit, |y| {
+        (NON_PHYSICAL_STRESS_FACTOR * y).max(strain_limit)
+    });
     match envelope.peak() {
         Some((stress, position)) if stress > limit => Err(SimulationError::NonPhysicalStress {
             stress_mpa: stress * 1e-6,
