@@ -291,9 +291,6 @@ pub fn preloaded_equilibrium(
         sys.set_friction_scale(target);
         climb.predict(&q, reached, target, &mut trial);
         let outcome = newton.solve(&mut sys, &mut trial, CONTINUATION_ITERATIONS);
-        if std::env::var_os("DRILLOPT_DEBUG_START").is_some() {
-            eprintln!("stage {reached} -> {target}: {outcome:?}");
-        }
         match outcome {
             Ok(iterations) => {
                 total += iterations;
@@ -408,6 +405,7 @@ struct EquilibriumNewton<'m> {
     dq_full: DVector<f64>,
     trial: DVector<f64>,
     r_trial: DVector<f64>,
+    dir: DVector<f64>,
     zero: DVector<f64>,
 }
 
@@ -425,6 +423,7 @@ impl<'m> EquilibriumNewton<'m> {
             dq_full: DVector::zeros(model.phi.nrows()),
             trial: DVector::zeros(n),
             r_trial: DVector::zeros(n),
+            dir: DVector::zeros(n),
             zero: DVector::zeros(n),
         }
     }
@@ -453,9 +452,10 @@ impl<'m> EquilibriumNewton<'m> {
             if self.lu.factor(&self.j).is_err() {
                 return Err((it, update));
             }
-            let mut dir = self.r.clone();
-            self.lu.solve_in_place(&mut dir);
-            self.dq_full.gemv(1.0, &model.phi, &dir, 0.0);
+            let dir = &mut self.dir;
+            dir.copy_from(&self.r);
+            self.lu.solve_in_place(dir);
+            self.dq_full.gemv(1.0, &model.phi, dir, 0.0);
             let largest = (0..model.nodes())
                 .map(|k| self.dq_full[Dof::V.at(k)].hypot(self.dq_full[Dof::W.at(k)]))
                 .fold(0.0, f64::max);
@@ -467,7 +467,7 @@ impl<'m> EquilibriumNewton<'m> {
             };
             loop {
                 self.trial.copy_from(q);
-                self.trial.axpy(-alpha, &dir, 1.0);
+                self.trial.axpy(-alpha, dir, 1.0);
                 sys.residual(0.0, &self.trial, zero, zero, &mut self.r_trial);
                 if self.r_trial.norm() < r_norm || alpha < 1e-3 {
                     break;
@@ -477,13 +477,6 @@ impl<'m> EquilibriumNewton<'m> {
             q.copy_from(&self.trial);
             self.r.copy_from(&self.r_trial);
             update = alpha * largest;
-            if std::env::var_os("DRILLOPT_DEBUG_NEWTON").is_some() {
-                let active = sys.contacts.iter().filter(|c| c.active).count();
-                eprintln!(
-                    "  it {it} |r| {r_norm:.3e} -> {:.3e} alpha {alpha} largest {largest:.3e} active {active}",
-                    self.r.norm()
-                );
-            }
             if !update.is_finite() {
                 return Err((it, update));
             }
