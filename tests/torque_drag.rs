@@ -170,3 +170,48 @@ fn strings_of_100_m_to_3_km_start_at_field_friction_and_carry_the_closed_form_to
         );
     }
 }
+
+/// Every shipped problem starts at every field friction (0 to 0.5, MODEL.md §11.6), at its own
+/// operating point, and its start passes the soft-string check (`sim::check_against_soft_string`,
+/// which `simulate` applies: a state that fails it is an error).
+#[test]
+fn every_shipped_problem_starts_at_every_field_friction() {
+    let mut files = Vec::new();
+    for dir in ["problems", "problems/regression", "problems/bench"] {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                files.push(path);
+            }
+        }
+    }
+    assert!(files.len() >= 10, "{files:?}");
+    for file in files {
+        let mut p = Problem::load(&file).unwrap();
+        let model_at =
+            |p: &Problem| ReducedModel::new(&p.model, p.mesh.elements, &p.mesh.basis).unwrap();
+        let index = p
+            .model
+            .wall
+            .index_of("friction")
+            .expect("every wall law has a friction");
+        for mu in [0.0, 0.1, 0.3, 0.5] {
+            p.model.wall.set(index, mu);
+            let model = model_at(&p);
+            let op = p.operating_point;
+            let (q, iterations) = preloaded_equilibrium(&model, op, Effects::ALL)
+                .unwrap_or_else(|e| panic!("{}: mu {mu}: {e}", file.display()));
+            let mut sys = Dynamics::new(&model, op, Effects::ALL);
+            let zero = DVector::zeros(model.size());
+            let obs = sys.observe(&q, &zero, &zero);
+            drillopt::sim::check_against_soft_string(&model, op, &obs)
+                .unwrap_or_else(|e| panic!("{}: mu {mu}: {e}", file.display()));
+            assert!(
+                iterations < 1000,
+                "{}: mu {mu}: {iterations}",
+                file.display()
+            );
+        }
+    }
+}

@@ -18,8 +18,9 @@ pub use envelope::StressEnvelope;
 pub use fatigue::{FATIGUE_FIBRES, SectionFatigue};
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,
-    STEPS_PER_PERIOD, SimulationError, SolverStats, preloaded_equilibrium, resolving_step,
-    run_model, run_model_into, run_problem, simulate, simulate_into, static_equilibrium,
+    STEPS_PER_PERIOD, SimulationError, SolverStats, check_against_soft_string,
+    preloaded_equilibrium, resolving_step, run_model, run_model_into, run_problem, simulate,
+    simulate_into, static_equilibrium,
 };
 pub use sampler::{SampleInterval, Sampler};
 pub use series::{CHANNELS, Channel, Frame, Row, Sink, TimeSeries, at};
