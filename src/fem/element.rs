@@ -50,7 +50,8 @@ impl BeamElement {
         self.integrate(|n| n.value.transpose() * d * n.value)
     }
 
-    /// Consistent mass: pipe ρA on u, v, w; fluid ρ_f A_f on v, w; ρJ = 2ρI on θx; ρI on θy, θz.
+    /// Consistent mass: pipe ρA on u, v, w; fluid ρ_f A_f and the annulus fluid's confined added
+    /// mass m_a on v, w ([`Section::lateral_mass`]); ρJ = 2ρI on θx; ρI on θy, θz.
     pub fn mass(&self) -> ElementMatrix {
         let s = &self.section;
         let lat = s.lateral_mass();
@@ -64,7 +65,8 @@ impl BeamElement {
         ])
     }
 
-    /// Pipe-only mass M_pipe (no fluid), so that the damping is C = c · M_pipe (Eq. (8)).
+    /// Pipe-only mass M_pipe (no fluid inside or outside), so that the damping is C = c · M_pipe
+    /// (Eq. (8)).
     pub fn pipe_mass(&self) -> ElementMatrix {
         let s = &self.section;
         let m = s.pipe_mass;
@@ -156,6 +158,7 @@ mod tests {
             pipe_mass: 49.64,
             fluid_mass: 6.03,
             displaced_mass: 0.0,
+            added_mass: 0.0,
             rotary_inertia: 0.0645,
             polar_inertia: 0.129,
         }
@@ -220,5 +223,32 @@ mod tests {
         let q = -section().lateral_mass() * 9.81;
         assert_relative_eq!(paper[2] + paper[8], q * h, max_relative = 1e-14);
         assert_eq!(section().weight_mass(), section().lateral_mass());
+    }
+
+    #[test]
+    fn the_annulus_added_mass_is_lateral_inertia_only() {
+        let (h, m_a) = (0.4, 88.7);
+        let dry = BeamElement::new(h, section());
+        let mud = BeamElement::new(
+            h,
+            Section {
+                added_mass: m_a,
+                ..section()
+            },
+        );
+        let (m0, m1) = (dry.mass(), mud.mass());
+        // Total lateral mass on v and on w: (ρA + ρ_f A_f + m_a) h (rigid translation).
+        for t in [1, 2] {
+            let rigid = |m: &ElementMatrix| m[(t, t)] + 2.0 * m[(t, t + 6)] + m[(t + 6, t + 6)];
+            assert_relative_eq!(rigid(&m1), (49.64 + 6.03 + m_a) * h, max_relative = 1e-12);
+            assert_relative_eq!(rigid(&m1) - rigid(&m0), m_a * h, max_relative = 1e-12);
+        }
+        // Axial and torsional rows unchanged to the bit; damping mass and weight unchanged.
+        for i in [0, 3, 6, 9] {
+            assert_eq!(m1.row(i), m0.row(i), "row {i}");
+        }
+        assert_eq!(mud.pipe_mass(), dry.pipe_mass());
+        assert_eq!(mud.gravity_load(9.81), dry.gravity_load(9.81));
+        assert_eq!(mud.stiffness(), dry.stiffness());
     }
 }

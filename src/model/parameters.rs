@@ -51,6 +51,9 @@ pub struct StringParameter {
     field: fn(&mut Drillstring) -> &mut f64,
     /// A bound set by another property of the string: the value must exceed it.
     above: Option<Above>,
+    /// Whether it enters the mass (the annulus fluid's confined added mass,
+    /// [`super::Section::confined_added_mass`]) when the annulus holds fluid, whatever `enters`.
+    added_mass: bool,
 }
 
 /// A lower bound that another property of the string sets, and its name for messages.
@@ -86,6 +89,7 @@ const fn row(
         enters,
         field,
         above: None,
+        added_mass: false,
     }
 }
 
@@ -141,7 +145,7 @@ pub static STRING_PARAMETERS: [StringParameter; 7] = [
         1200.0,
         Linear,
         |s| &mut s.fluid_density,
-        "drilling-fluid density ρ_f (added lateral mass)",
+        "drilling-fluid density ρ_f (lateral mass and weight)",
     ),
     row(
         "model.fluid.annulus_density",
@@ -150,10 +154,11 @@ pub static STRING_PARAMETERS: [StringParameter; 7] = [
         1200.0,
         Linear,
         |s| &mut s.annulus_density,
-        "density ρ_a of the fluid in the annulus (buoyancy: gravity load)",
+        "density ρ_a of the fluid in the annulus (buoyancy: gravity load; confined added mass)",
     ),
     StringParameter {
         above: Some((|s| s.pipe.outer_radius, "the pipe's outer radius")),
+        added_mass: true,
         ..row(
             "model.borehole.radius",
             D::Length,
@@ -232,9 +237,14 @@ impl ParameterKey {
         self.spec
     }
 
-    /// Which operators the parameter enters (the laws' parameters act in the forces only).
-    pub fn enters(&self) -> Enters {
+    /// Which operators the parameter enters in `string` (the laws' parameters act in the forces
+    /// only; the borehole radius enters the mass too when the annulus holds fluid, through the
+    /// confined added mass).
+    pub fn enters(&self, string: &Drillstring) -> Enters {
         match self.target {
+            Target::String(row) if row.added_mass && string.annulus_density > 0.0 => {
+                Enters::LinearOperators
+            }
             Target::String(row) => row.enters,
             Target::Wall(_) | Target::Bit(_) => Enters::NonlinearForces,
         }
@@ -317,14 +327,29 @@ mod tests {
     fn operators_and_admissibility() {
         let s = seed();
         let k = |key| ParameterKey::resolve(key, &s).unwrap();
-        assert_eq!(k("model.pipe.density").enters(), Enters::LinearOperators);
+        assert_eq!(k("model.pipe.density").enters(&s), Enters::LinearOperators);
         assert_eq!(
-            k("model.fluid.annulus_density").enters(),
+            k("model.fluid.annulus_density").enters(&s),
             Enters::LinearOperators
         );
-        assert_eq!(k("model.bit.rate").enters(), Enters::NonlinearForces);
-        assert_eq!(k("model.borehole.radius").enters(), Enters::NonlinearForces);
-        assert_eq!(k("model.wall.stiffness").enters(), Enters::NonlinearForces);
+        assert_eq!(k("model.bit.rate").enters(&s), Enters::NonlinearForces);
+        assert_eq!(
+            k("model.borehole.radius").enters(&s),
+            Enters::NonlinearForces
+        );
+        assert_eq!(
+            k("model.wall.stiffness").enters(&s),
+            Enters::NonlinearForces
+        );
+        // With annulus fluid the hole's radius sets the confined added mass: own modes.
+        let mud = Drillstring {
+            annulus_density: 1200.0,
+            ..s.clone()
+        };
+        assert_eq!(
+            k("model.borehole.radius").enters(&mud),
+            Enters::LinearOperators
+        );
         let r = k("model.borehole.radius");
         assert!(r.admissible(&s, s.pipe.outer_radius).is_err());
         assert!(r.admissible(&s, s.pipe.outer_radius * 1.1).is_ok());

@@ -45,8 +45,10 @@ pub struct Drillstring {
     pub fluid_density: f64,
     /// Density ρ_a of the fluid in the annulus, outside the pipe, kg/m³; 0 (the default, the
     /// seed paper's model) for none. It buoys the string: the gravity load becomes the buoyed
-    /// weight (ρA + ρ_f A_f − ρ_a π R_ext²) g, see [`super::Section::weight_mass`]. Left out of
-    /// the canonical form (cache keys) when 0, so a problem without it keeps its key.
+    /// weight (ρA + ρ_f A_f − ρ_a π R_ext²) g, see [`super::Section::weight_mass`], and adds the
+    /// confined added mass of the annulus to the lateral inertia, see
+    /// [`super::Section::confined_added_mass`]. Left out of the canonical form (cache keys) when
+    /// 0, so a problem without it keeps its key.
     #[serde(skip_serializing_if = "is_zero")]
     pub annulus_density: f64,
     /// Borehole radius R_bh, m.

@@ -41,6 +41,10 @@ pub struct Section {
     /// Mass per length of the annulus fluid the pipe displaces, ρ_a π R_ext², kg/m (0 without
     /// annulus fluid).
     pub displaced_mass: f64,
+    /// Confined added mass per length of the annulus fluid on the lateral motion (v, w),
+    /// ρ_a π R_ext² (R_bh² + R_ext²)/(R_bh² − R_ext²), kg/m ([`Self::confined_added_mass`]; 0 without
+    /// annulus fluid). Lateral inertia only: not axial or torsional, not weight, not damped.
+    pub added_mass: f64,
     /// Rotatory inertia per length about a diameter ρI, kg·m.
     pub rotary_inertia: f64,
     /// Polar inertia per length ρJ = 2ρI, kg·m.
@@ -70,14 +74,21 @@ impl Section {
             pipe_mass: p.density * area,
             fluid_mass: string.fluid_density * fluid_area,
             displaced_mass: string.annulus_density * PI * ro * ro,
+            added_mass: Self::confined_added_mass(
+                string.annulus_density,
+                ro,
+                string.borehole_radius,
+            ),
             rotary_inertia: p.density * second_moment,
             polar_inertia: p.density * polar_moment,
         }
     }
 
-    /// Lateral mass per length ρA + ρ_f A_f, kg/m.
+    /// Lateral mass per length ρA + ρ_f A_f + m_a, kg/m: the pipe, the fluid inside it and the
+    /// annulus fluid's confined added mass ([`Self::added_mass`], 0 without annulus fluid, so
+    /// that the paper's ρA + ρ_f A_f is kept to the last bit).
     pub fn lateral_mass(&self) -> f64 {
-        self.pipe_mass + self.fluid_mass
+        self.pipe_mass + self.fluid_mass + self.added_mass
     }
 
     /// The mass per length whose weight loads the string, kg/m: the buoyed weight over g,
@@ -91,10 +102,35 @@ impl Section {
     /// ρ_a = ρ_f it is the steel's weight times the buoyancy factor 1 − ρ_f/ρ. The hydrostatic
     /// pressure itself is not modelled: in a horizontal hole it is uniform along the string, and
     /// the lateral load it leaves is this one when the axial force is read as Lubinski's
-    /// effective force, which is what the model's axial force is. The annulus fluid adds no
-    /// lateral (added) mass here. Equal to [`Self::lateral_mass`] to the last bit without it.
+    /// effective force, which is what the model's axial force is. The annulus fluid's added mass
+    /// ([`Self::added_mass`]) is inertia, not weight, and is not in it. Equal to
+    /// [`Self::lateral_mass`] to the last bit without annulus fluid.
     pub fn weight_mass(&self) -> f64 {
-        self.lateral_mass() - self.displaced_mass
+        self.pipe_mass + self.fluid_mass - self.displaced_mass
+    }
+
+    /// The confined added mass per length of the fluid in a concentric annulus on the lateral
+    /// motion of the pipe, kg/m (MODEL.md §11.4):
+    ///
+    ///   m_a = ρ_a π R_ext² (R_bh² + R_ext²) / (R_bh² − R_ext²),
+    ///
+    /// the inviscid (potential-flow) limit of a rigid cylinder of radius R_ext translating inside a
+    /// fixed concentric cylinder of radius R_bh (S. S. Chen, M. W. Wambsganss, J. A. Jendrzejczyk,
+    /// *Added mass and damping of a vibrating rod in confined viscous fluids*, J. Appl. Mech. 43
+    /// (1976) 325–329; the same coefficient as R. J. Fritz, J. Eng. Ind. 94 (1972) 167–173). It
+    /// tends to the displaced mass ρ_a π R_ext² in an unbounded fluid (R_bh → ∞) and grows without
+    /// bound as the gap closes. Small motions about the concentric position (the coefficient grows
+    /// with eccentricity), no viscous (squeeze-film) damping, no coupling with the spin. 0 (exactly)
+    /// for `density` 0, whatever the radii.
+    pub fn confined_added_mass(density: f64, outer_radius: f64, borehole_radius: f64) -> f64 {
+        if density == 0.0 {
+            return 0.0;
+        }
+        let (a2, b2) = (
+            outer_radius * outer_radius,
+            borehole_radius * borehole_radius,
+        );
+        density * PI * a2 * (b2 + a2) / (b2 - a2)
     }
 }
 
@@ -116,5 +152,23 @@ mod tests {
             2.0 * (1.0 + nu) / (4.0 + 3.0 * nu),
             max_relative = 1e-8
         );
+    }
+
+    #[test]
+    fn confined_added_mass_limits_and_the_seed_value() {
+        // 89 kg/m on the seed's pipe (R_ext 60 mm) in its 70 mm hole with 1200 kg/m³ of mud.
+        let seed = Section::confined_added_mass(1200.0, 0.06, 0.07);
+        assert_relative_eq!(
+            seed,
+            1200.0 * PI * 0.0036 * 0.0085 / 0.0013,
+            max_relative = 1e-14
+        );
+        assert!((seed - 88.7).abs() < 0.1, "{seed}");
+        // An unbounded fluid: the displaced mass (potential flow about a cylinder).
+        let far = Section::confined_added_mass(1000.0, 0.05, 5e3);
+        assert_relative_eq!(far, 1000.0 * PI * 0.0025, max_relative = 1e-9);
+        // No fluid: exactly 0, also for a hole no wider than the pipe.
+        assert_eq!(Section::confined_added_mass(0.0, 0.06, 0.06), 0.0);
+        assert_eq!(Section::confined_added_mass(0.0, 0.06, 0.07).to_bits(), 0);
     }
 }

@@ -158,7 +158,7 @@ impl<'a> RobustEvaluator<'a> {
         let rebuild = study
             .uncertain
             .iter()
-            .any(|u| u.key.enters() == Enters::LinearOperators);
+            .any(|u| u.key.enters(&problem.model) == Enters::LinearOperators);
         let build = |i: usize, s: &Drillstring| {
             ReducedModel::new(s, problem.mesh.elements, &problem.mesh.basis)
                 .map_err(|source| SetupError::Modes { sample: i, source })
@@ -174,7 +174,8 @@ impl<'a> RobustEvaluator<'a> {
             strings
                 .iter()
                 .map(|s| {
-                    // Bit, wall and borehole parameters act in the nonlinear forces only.
+                    // Bit, wall and (without annulus fluid) borehole parameters act in the
+                    // nonlinear forces only.
                     let mut m = nominal.clone();
                     m.string = s.clone();
                     Arc::new(m)
