@@ -148,7 +148,8 @@ fn an_explore_window_must_be_shorter_with_its_settling_inside() {
         &e,
         &[
             "optimizer.explore.duration",
-            "the range of simulation.duration, in [0.000001, 86400] s",
+            "in [0.000001, 86400] s",
+            "the range of simulation.duration, got -1 s",
         ],
     );
     let e = error("[optimizer.explore]\nduration = \"1 kN\"\n");

@@ -337,12 +337,12 @@ impl<'a> Checker<'a> {
                 let of = if key == range_key {
                     String::new()
                 } else {
-                    format!("the range of {range_key}, ")
+                    format!(", the range of {range_key}")
                 };
                 self.record(
                     key,
                     format!(
-                        "must be {of}{}, got {} {unit}",
+                        "must be {}{of}, got {} {unit}",
                         r.describe_in(unit, factor),
                         show(in_unit(v, factor))
                     ),
