@@ -144,7 +144,14 @@ fn an_explore_window_must_be_shorter_with_its_settling_inside() {
         &["optimizer.explore.settling_time", "[0, 0.8 s)", "got 0.8 s"],
     );
     let e = error("[optimizer.explore]\nduration = \"-1 s\"\n");
-    assert_names(&e, &["optimizer.explore.duration", "> 0"]);
+    assert_names(
+        &e,
+        &[
+            "optimizer.explore.duration",
+            "in [0.000001, 86400] s",
+            "the range of simulation.duration, got -1 s",
+        ],
+    );
     let e = error("[optimizer.explore]\nduration = \"1 kN\"\n");
     assert_names(&e, &["optimizer.explore.duration", "kN"]);
     // Shorter than one nominal step (10 ms).

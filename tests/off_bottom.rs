@@ -40,7 +40,7 @@ fn a_negative_v0_on_the_command_line_is_refused_naming_the_key_and_range() {
         assert!(
             stderr.contains("--v0")
                 && stderr.contains("operating_point.v0")
-                && stderr.contains("[0, 1000] m/h")
+                && stderr.contains("0 or in [0.1, 1000] m/h")
                 && stderr.contains("off-bottom"),
             "{stderr}"
         );

@@ -135,6 +135,8 @@ fn value() -> impl Strategy<Value = String> {
             prop::sample::select(vec![
                 "1e308", "1e999", "-1e308", "1e-300", "-1", "-0.5", "0", "nan", "inf", "-inf",
                 "2.5e11", "1e9",
+                // Issue 34: inside the old ranges, absurd in their consequences.
+                "5e-324", "1e-160", "1e-163", "1e12", "2e8",
             ]),
             unit.clone()
         )
@@ -205,7 +207,16 @@ fn apply(text: &str, m: &Mutation) -> String {
 /// Loading never panics (a panic fails the case); a refusal names the file and a key or a line.
 fn check(path: &str, text: &str) -> Result<(), TestCaseError> {
     let err = match Problem::from_toml(text, Path::new(path)) {
-        Ok(_) => return Ok(()),
+        // A problem that loads draws only admissible values (issue 34: the gamma sampler
+        // panicked on a cov of 1e-163, and out-of-range draws were refused at run time only).
+        Ok(p) => {
+            prop_assert!(
+                p.study.inadmissible_draw(&p.model).is_none(),
+                "{} loads but draws an inadmissible value",
+                path
+            );
+            return Ok(());
+        }
         Err(e) => e,
     };
     let msg = err.to_string();
@@ -253,5 +264,36 @@ fn mutated_shipped_problems_never_panic_and_every_refusal_names_file_and_key() {
                 check(path, &mutated)
             })
             .unwrap_or_else(|e| panic!("{path}: {e}"));
+    }
+}
+
+/// The seeds of issue 34, as a deterministic sweep: every `key = value` line of every shipped
+/// file set to each value the campaign found absurd inside the old ranges (5e-324, 1e-300, the
+/// gamma law's vanishing cov, the bounds' 1e12 and 2e8 m/h), with and without a unit. Loading
+/// never panics, every refusal names the file and a key, and a file that loads draws only
+/// admissible values.
+#[test]
+fn issue_34_seeds_never_panic_and_are_refused_naming_file_and_key() {
+    let values = [
+        "5e-324",
+        "1e-300",
+        "\"1e-300 rpm\"",
+        "\"1e-300 m/h\"",
+        "1e-163",
+        "1e-160",
+        "1e12",
+        "\"2e8 m/h\"",
+        "[\"30 rpm\", 1e12]",
+        "[\"1e-300 rpm\", \"150 rpm\"]",
+        "[\"2 m/h\", \"2e8 m/h\"]",
+    ];
+    for (path, text) in SHIPPED {
+        let lines = text.lines().count();
+        for i in 0..lines {
+            for v in values {
+                let mutated = apply(text, &Mutation::Replace(i, v.to_string()));
+                check(path, &mutated).unwrap_or_else(|e| panic!("{path}, line {i} = {v}: {e}"));
+            }
+        }
     }
 }

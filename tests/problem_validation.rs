@@ -236,7 +236,7 @@ fn optional_keys_when_given_are_read() {
         "\"shear\" follows the given factor"
     );
     let p = accepted(&set("model.pipe", "shear_factor", "1"));
-    assert_eq!(p.model.pipe.shear_factor, 1.0, "1 is in (0, 1]");
+    assert_eq!(p.model.pipe.shear_factor, 1.0, "1 is in [0.1, 1]");
     let p = accepted(&set("model.pipe", "torsion_factor", "0.75"));
     assert_eq!(p.model.pipe.torsion_factor, 0.75);
     let p = accepted(&set("simulation", "probes", "[0, \"17.5 m\", 35.0]"));
@@ -575,7 +575,7 @@ fn a_non_finite_value_is_refused() {
     refused(
         &set("model.pipe", "shear_factor", "nan"),
         "model.pipe.shear_factor",
-        &["(0, 1]"],
+        &["[0.1, 1]"],
     );
     // Overflow in a unit string is not finite either.
     refused(
@@ -676,7 +676,7 @@ fn poisson_ratio_must_lie_in_minus_one_to_one_half() {
         refused(
             &set("model.pipe", "poisson_ratio", v),
             "model.pipe.poisson_ratio",
-            &["(-1, 0.5)"],
+            &["[-0.9, 0.499]"],
         );
     }
     let p = accepted(&set("model.pipe", "poisson_ratio", "0.49"));
@@ -763,17 +763,17 @@ fn negative_contact_and_bit_parameters_are_refused() {
     refused(
         &insert("model.wall", "sign_smoothing", "0"),
         "model.wall.sign_smoothing",
-        &["in (0, 10] rad/s"],
+        &["in [0.000001, 10] rad/s"],
     );
     refused(
         &set("model.bit", "limit_force", "\"-250 kN\""),
         "model.bit.limit_force",
-        &["in [0, 5000000] N"],
+        &["in [1000, 5000000] N"],
     );
     refused(
         &set("model.bit", "rate", "0"),
         "model.bit.rate",
-        &["in (0, 100000] s/m"],
+        &["in [1, 100000] s/m"],
     );
     refused(
         &set("model.bit", "friction", "\"-0.04 m\""),
@@ -783,7 +783,7 @@ fn negative_contact_and_bit_parameters_are_refused() {
     refused(
         &set("model", "gravity", "\"-9.81 m/s^2\""),
         "model.gravity",
-        &["must be in "],
+        &["must be 0 or in [0.1, 30] m/s2"],
     );
 }
 
@@ -793,13 +793,13 @@ fn a_shear_factor_outside_zero_to_one_is_refused() {
         refused(
             &set("model.pipe", "shear_factor", v),
             "model.pipe.shear_factor",
-            &["(0, 1]", "\"cowper\""],
+            &["[0.1, 1]", "\"cowper\""],
         );
     }
     refused(
         &set("model.pipe", "torsion_factor", "1.5"),
         "model.pipe.torsion_factor",
-        &["(0, 1]", "\"shear\""],
+        &["[0.1, 1]", "\"shear\""],
     );
 }
 
@@ -808,7 +808,7 @@ fn an_unknown_word_for_a_factor_is_refused() {
     refused(
         &set("model.pipe", "shear_factor", "\"timoshenko\""),
         "model.pipe.shear_factor",
-        &["`timoshenko` is not allowed", "(0, 1]", "\"cowper\""],
+        &["`timoshenko` is not allowed", "[0.1, 1]", "\"cowper\""],
     );
     // Each factor has its own word.
     refused(
@@ -959,7 +959,11 @@ fn a_negative_rate_of_penetration_is_refused_and_zero_is_off_bottom() {
     refused(
         &set("operating_point", "v0", "-1e-3"),
         "operating_point.v0",
-        &["must be in [0, 1000] m/h", "off-bottom", "got -3.6 m/h"],
+        &[
+            "must be 0 or in [0.1, 1000] m/h",
+            "off-bottom",
+            "got -3.6 m/h",
+        ],
     );
 }
 
@@ -1088,13 +1092,13 @@ fn physical_inputs_have_admissible_ranges() {
         ),
         ("model.wall", "friction", "1e308", "[0, 2]"),
         ("model.bit", "limit_force", "\"250 GN\"", "unknown unit"),
-        ("model.bit", "limit_force", "2.5e11", "[0, 5000000] N"),
+        ("model.bit", "limit_force", "2.5e11", "[1000, 5000000] N"),
         // The operating point in the driller's units, not in rad/s and m/s with 17 digits.
         (
             "operating_point",
             "v0",
             "\"1e308 m/h\"",
-            "in [0, 1000] m/h (at most 1000 m/h; 0 is off-bottom rotation), got 1e308 m/h",
+            "0 or in [0.1, 1000] m/h (0 is off-bottom rotation; else from 0.1 m/h, slower than any rock is drilled, to at most 1000 m/h), got 1e308 m/h",
         ),
         (
             "operating_point",

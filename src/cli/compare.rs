@@ -46,10 +46,20 @@ pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
     let v0 = Dimension::Velocity
         .parse(v.trim())
         .with_context(|| format!("--point {text}: axial velocity"))?;
-    anyhow::ensure!(
-        omega > 0.0 && v0 >= 0.0 && omega.is_finite() && v0.is_finite(),
-        "--point {text}: the rotation speed must be finite and > 0, the axial velocity finite and >= 0 (0: off bottom)"
-    );
+    // The ranges of the problem keys, as for `--omega` and `--v0` (`1e-300rpm` printed
+    // 280-digit scores, `1e308rpm` an "inf" row).
+    super::simulate::in_range(
+        &format!("--point {text}: rotation speed"),
+        "operating_point.omega",
+        w,
+        omega,
+    )?;
+    super::simulate::in_range(
+        &format!("--point {text}: axial velocity"),
+        "operating_point.v0",
+        v,
+        v0,
+    )?;
     Ok(OperatingPoint { omega, v0 })
 }
 
@@ -133,5 +143,28 @@ mod tests {
         assert_eq!(super::parse_point("60rpm,0m/h").unwrap().v0, 0.0);
         assert!(super::parse_point("60rpm,-1m/h").is_err());
         assert!(super::parse_point("0rpm,5m/h").is_err());
+        // Issue 34: the ranges of operating_point.omega and .v0, said in the driller's units.
+        for (bad, key, range) in [
+            ("1e-300rpm,5m/h", "operating_point.omega", "[1, 1000] rpm"),
+            ("1e308rpm,5m/h", "operating_point.omega", "[1, 1000] rpm"),
+            (
+                "60rpm,1e-300m/h",
+                "operating_point.v0",
+                "0 or in [0.1, 1000] m/h",
+            ),
+            (
+                "60rpm,2e8m/h",
+                "operating_point.v0",
+                "0 or in [0.1, 1000] m/h",
+            ),
+        ] {
+            let err = super::parse_point(bad).unwrap_err().to_string();
+            assert!(
+                err.contains(&format!("--point {bad}"))
+                    && err.contains(&format!("`{key}`"))
+                    && err.contains(range),
+                "{err}"
+            );
+        }
     }
 }

@@ -108,23 +108,30 @@ pub(super) fn parse_override(
             let v = dim
                 .parse(t)
                 .with_context(|| format!("{flag} (key `{key}`)"))?;
-            // Every override key has a range (limits::range_of); each excludes NaN and ±∞.
-            if let Some(r) = crate::problem::limits::range_of(key) {
-                // Said in the driller's unit of the flag.
-                let (unit, factor) = match flag {
-                    "--omega" => ("rpm", crate::units::from_rpm(1.0)),
-                    "--v0" => ("m/h", crate::units::from_m_per_h(1.0)),
-                    _ => ("s", 1.0),
-                };
-                anyhow::ensure!(
-                    r.contains(v),
-                    "{flag} (key `{key}`) must be {}, got {t}",
-                    r.describe_in(unit, factor)
-                );
-            }
+            in_range(flag, key, t, v)?;
             Ok(v)
         }
     }
+}
+
+/// Refuse a command-line quantity outside the admissible range of the problem key it stands
+/// for (`--omega`, `--point`: `operating_point.omega`; `--v0`; `--duration`), the range said
+/// in the driller's unit of the key, the flag (`what`) and the key named. Every such key has a
+/// range ([`crate::problem::limits::range_of`]); each excludes NaN and ±∞.
+pub(super) fn in_range(what: &str, key: &str, text: &str, v: f64) -> anyhow::Result<()> {
+    let r = crate::problem::limits::range_of(key).expect("a command-line quantity has a range");
+    let (unit, factor) = match key {
+        "operating_point.omega" => ("rpm", crate::units::from_rpm(1.0)),
+        "operating_point.v0" => ("m/h", crate::units::from_m_per_h(1.0)),
+        _ => ("s", 1.0),
+    };
+    anyhow::ensure!(
+        r.contains(v),
+        "{what} (key `{key}`) must be {}, got {}",
+        r.describe_in(unit, factor),
+        text.trim()
+    );
+    Ok(())
 }
 
 /// The operating point and duration of a one-point command: the problem's, or the overrides

@@ -54,6 +54,14 @@ pub fn apply_overrides(
                 file.display()
             )
         })?;
+        // More samples draw more values: each is checked as at load.
+        if let Some(bad) = problem.study.inadmissible_draw(&problem.model) {
+            anyhow::bail!(
+                "--samples {n} (key `uncertain.samples` of {}): {bad}; narrow the law of uncertain.parameter[{}] or use fewer samples",
+                file.display(),
+                bad.parameter
+            );
+        }
     }
     if let Some(n) = budget {
         problem.study.override_budget(n).map_err(|e| {

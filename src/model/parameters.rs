@@ -162,7 +162,8 @@ pub static STRING_PARAMETERS: [StringParameter; 7] = [
         ..row(
             "model.borehole.radius",
             D::Length,
-            Range::open(0.0, 2.0, "a hole of at most 4 m across"),
+            // It must also exceed the pipe's outer radius, at least 1 mm.
+            Range::closed(1e-3, 2.0, "a hole 2 mm to 4 m across"),
             0.1,
             Nonlinear,
             |s| &mut s.borehole_radius,

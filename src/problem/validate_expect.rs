@@ -21,8 +21,14 @@ pub(super) fn expect(
     constraints: Option<&Constraints>,
 ) -> Result<Expect, ProblemError> {
     use super::Dimension::*;
-    let omega = range(c, "expect.omega", &e.omega, AngularVelocity)?;
-    let v0 = range(c, "expect.v0", &e.v0, Velocity)?;
+    let omega = range(
+        c,
+        "expect.omega",
+        "operating_point.omega",
+        &e.omega,
+        AngularVelocity,
+    )?;
+    let v0 = range(c, "expect.v0", "operating_point.v0", &e.v0, Velocity)?;
     let objective = match &e.objective {
         None => None,
         Some(o) if o.len() == 2 && o[0].is_finite() && o[1].is_finite() && o[0] <= o[1] => {

@@ -183,7 +183,7 @@ fn window(
     let step = simulation.map_or(f64::NAN, |s| s.time_step);
     let duration = raw.duration.as_ref().map(|d| {
         let k = key("duration");
-        let d = c.positive(&k, d, Time).unwrap_or(f64::NAN);
+        let d = c.value_as(&k, "simulation.duration", d, Time);
         if d.is_nan() || full.is_nan() {
             return d;
         }

@@ -201,7 +201,9 @@ fn uncertain(
         if c.errors_recorded() > before {
             continue; // a value of the law was refused where it was read
         }
-        law.validate().map_err(|m| c.fail(&at("law"), m))?;
+        // The spread's range and the laws' own rules, under the key of the parameter at fault.
+        law.validate()
+            .map_err(|e| c.fail(&at(e.parameter), e.message))?;
         // A law whose bulk leaves the admissible range would make samples fail, not the
         // optimisation: refuse it here (normal laws are not truncated).
         // At either end: the support's end or mean ∓ 4σ, whichever is nearer.
@@ -230,6 +232,16 @@ fn uncertain(
             }
         }
         params.push(UncertainParameter { key, law });
+    }
+    // Every value the samples draw, checked here rather than when the study runs (a draw
+    // outside its range was refused at run time, without the file's name).
+    if c.errors_recorded() == 0
+        && let Some(bad) = inadmissible_draw(&params, u.samples as usize, seed, model)
+    {
+        return Err(c.fail(
+            &format!("uncertain.parameter[{}].law", bad.parameter),
+            format!("{bad}; narrow the law (or use another seed or fewer samples)"),
+        ));
     }
     // Entries refused above (a bad value, a misspelt key, `[[uncertain.parameters]]`) are
     // reported once, where they were met: the section is not also called empty.
@@ -450,9 +462,12 @@ fn objective(
     Ok((quantity, stat, risk))
 }
 
+/// A pair `[min, max]` under `key`, each end within the admissible range of `range_key` (the
+/// operating point's key: `omega = ["30 rpm", 1e12]` simulated 2.4e12 rpm and called it feasible).
 pub(super) fn range(
     c: &Checker,
     key: &str,
+    range_key: &str,
     raw: &[RawQuantity],
     dim: super::Dimension,
 ) -> Result<[f64; 2], ProblemError> {
@@ -462,8 +477,8 @@ pub(super) fn range(
             format!("must be a pair [min, max], got {} values", raw.len()),
         ));
     }
-    let lo = c.value(&format!("{key}[0]"), &raw[0], dim)?;
-    let hi = c.value(&format!("{key}[1]"), &raw[1], dim)?;
+    let lo = c.value_as(&format!("{key}[0]"), range_key, &raw[0], dim);
+    let hi = c.value_as(&format!("{key}[1]"), range_key, &raw[1], dim);
     let read = !lo.is_nan() && !hi.is_nan(); // else refused where read
     if read && !(lo > 0.0 && hi > lo) {
         // Echoed as typed (`"150 rpm"`), so the user sees their own units.
@@ -497,8 +512,14 @@ const LINEAR_MIN: f64 = 1e-9;
 
 fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, ProblemError> {
     use super::Dimension::*;
-    let omega = range(c, "constraints.omega", &k.omega, AngularVelocity)?;
-    let v0 = range(c, "constraints.v0", &k.v0, Velocity)?;
+    let omega = range(
+        c,
+        "constraints.omega",
+        "operating_point.omega",
+        &k.omega,
+        AngularVelocity,
+    )?;
+    let v0 = range(c, "constraints.v0", "operating_point.v0", &k.v0, Velocity)?;
     let mut linear = Vec::new();
     if let Some(d) = &k.max_depth_of_cut {
         // Depth of cut per revolution 2π V0 / Ω ≤ d  ⇔  2π V0 − d Ω ≤ 0 (Ω > 0).
@@ -672,8 +693,13 @@ fn optimizer(
     let start = match &o.start {
         None => None,
         Some(s) if s.len() == 2 => {
-            let w = c.positive("optimizer.start[0]", &s[0], AngularVelocity)?;
-            let v = c.positive("optimizer.start[1]", &s[1], Velocity)?;
+            let w = c.value_as(
+                "optimizer.start[0]",
+                "operating_point.omega",
+                &s[0],
+                AngularVelocity,
+            );
+            let v = c.value_as("optimizer.start[1]", "operating_point.v0", &s[1], Velocity);
             let known = |x: &[f64]| x.iter().all(|x| !x.is_nan());
             if !known(&[w, v]) {
                 // Refused where read; the builders need not see it again.

@@ -6,10 +6,19 @@
 //!
 //! | law | parameters | support | sampler parameters |
 //! |---|---|---|---|
-//! | Gamma | mean > 0, cov > 0 | (0, ∞) | shape k = 1/cov², scale θ = mean·cov² |
-//! | LogNormal | mean > 0, cov > 0 | (0, ∞) | σ² = ln(1 + cov²), μ = ln(mean) − σ²/2 (of ln X) |
-//! | Normal | mean, std > 0 | (−∞, ∞) | as given |
-//! | Uniform | low < high | \[low, high) | as given |
+//! | Gamma | mean > 0, cov ∈ \[1e-6, 1\] | (0, ∞) | shape k = 1/cov², scale θ = mean·cov² |
+//! | LogNormal | mean > 0, cov ∈ \[1e-6, 1\] | (0, ∞) | σ² = ln(1 + cov²), μ = ln(mean) − σ²/2 (of ln X) |
+//! | Normal | mean, std/\|mean\| ∈ \[1e-6, 1\] (std > 0 if mean = 0) | (−∞, ∞) | as given |
+//! | Uniform | low < high, (high − low)/max(\|low\|, \|high\|) ≥ 1e-6 | \[low, high) | as given |
+//!
+//! The spread has a closed range ([`SPREAD`], issue 34). Its lower end: a parameter known to
+//! better than one part in a million is deterministic and is written as a value, without a law;
+//! and below it the samplers lose their meaning (the gamma sampler's scale mean·cov² underflows
+//! for cov below about 1.5e-162, and `compare`, `solve` and `map` panicked in it). Its upper end:
+//! a standard deviation as large as the mean; beyond it the gamma law's shape 1/cov² falls below
+//! 1, its density is infinite at 0 and its draws spread over orders of magnitude, a parameter
+//! not known at all. Every value a law draws must also be admissible for its parameter: the
+//! problem layer checks the draws where the law is loaded.
 //!
 //! Gamma with k = 1/cov² has mean kθ = mean, variance kθ² = (mean·cov)² and skewness 2/√k = 2·cov.
 //! It is the maximum-entropy law on (0, ∞) for a given mean and E\[ln X\] (Soize 2017,
@@ -38,6 +47,24 @@ pub enum Distribution {
     LogNormal { mean: f64, cov: f64 },
 }
 
+/// The admissible relative spread of a law (cov, std/|mean|, width over magnitude), see the
+/// module doc.
+pub const SPREAD: (f64, f64) = (1e-6, 1.0);
+
+/// Why a law was refused: the parameter (`mean`, `cov`, `std`, `low`, `high`) and the message,
+/// which names the law, the parameter, its value and what is allowed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LawError {
+    pub parameter: &'static str,
+    pub message: String,
+}
+
+impl std::fmt::Display for LawError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
 /// Parameters (μ, σ) of ln X for a log-normal X of mean `mean` and coefficient of variation
 /// `cov`: σ² = ln(1 + cov²), μ = ln(mean) − σ²/2. Inverse of E\[X\] = exp(μ + σ²/2),
 /// cov² = exp(σ²) − 1.
@@ -50,46 +77,106 @@ pub fn lognormal_log_params(mean: f64, cov: f64) -> (f64, f64) {
 impl Distribution {
     /// Checks the ranges in the table of the module doc. The message names the law, the bad
     /// parameter, its value and what is allowed.
-    pub fn validate(&self) -> Result<(), String> {
-        fn finite(law: &str, name: &str, value: f64) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), LawError> {
+        fn err(parameter: &'static str, message: String) -> Result<(), LawError> {
+            Err(LawError { parameter, message })
+        }
+        fn finite(law: &str, name: &'static str, value: f64) -> Result<(), LawError> {
             if value.is_finite() {
                 Ok(())
             } else {
-                Err(format!("{law}: `{name}` = {value} must be finite"))
+                err(name, format!("{law}: `{name}` = {value} must be finite"))
             }
         }
-        fn positive(law: &str, name: &str, value: f64) -> Result<(), String> {
+        fn positive(law: &str, name: &'static str, value: f64) -> Result<(), LawError> {
             if value.is_finite() && value > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{law}: `{name}` = {value} must be finite and > 0"))
+                err(
+                    name,
+                    format!("{law}: `{name}` = {value} must be finite and > 0"),
+                )
             }
         }
-        match *self {
-            Self::Gamma { mean, cov } => {
-                positive("gamma", "mean", mean)?;
-                positive("gamma", "cov", cov)
+        const WHY: &str = "below 1e-6 the parameter is deterministic: write it as a value, \
+                           without a law; above 1 the law spreads over orders of magnitude";
+        let (lo, hi) = SPREAD;
+        let spread = |law: &str, name: &'static str, what: &str, value: f64, relative: f64| {
+            if (lo..=hi).contains(&relative) {
+                Ok(())
+            } else {
+                err(
+                    name,
+                    format!(
+                        "{law}: {what} must be in [{lo:e}, {hi}] ({WHY}), got {}",
+                        crate::units::show(value)
+                    ),
+                )
             }
-            Self::LogNormal { mean, cov } => {
-                positive("lognormal", "mean", mean)?;
-                positive("lognormal", "cov", cov)
+        };
+        match *self {
+            Self::Gamma { mean, cov } | Self::LogNormal { mean, cov } => {
+                let law = if matches!(self, Self::Gamma { .. }) {
+                    "gamma"
+                } else {
+                    "lognormal"
+                };
+                positive(law, "mean", mean)?;
+                finite(law, "cov", cov)?;
+                spread(law, "cov", "`cov` (std/mean)", cov, cov)?;
+                // The gamma sampler's scale mean·cov² (and its inverse) must be a normal
+                // number: a mean of 5e-324 underflowed it to 0 and the sampler panicked.
+                let scale = mean * cov * cov;
+                if !(scale.is_normal() && (1.0 / scale).is_normal()) {
+                    return err(
+                        "mean",
+                        format!(
+                            "{law}: `mean` = {} is too small to sample with cov = {cov} (mean·cov² must exceed 2.2e-308)",
+                            crate::units::show(mean)
+                        ),
+                    );
+                }
+                Ok(())
             }
             Self::Normal { mean, std } => {
                 finite("normal", "mean", mean)?;
-                positive("normal", "std", std)
+                positive("normal", "std", std)?;
+                if mean == 0.0 {
+                    return Ok(());
+                }
+                spread(
+                    "normal",
+                    "std",
+                    "`std` relative to the mean (std/|mean|)",
+                    std,
+                    std / mean.abs(),
+                )
             }
             Self::Uniform { low, high } => {
                 finite("uniform", "low", low)?;
                 finite("uniform", "high", high)?;
                 // high − low must also be finite, or the sampler cannot scale its unit draw.
-                if low < high && (high - low).is_finite() {
-                    Ok(())
-                } else {
-                    Err(format!(
-                        "uniform: needs `low` < `high` (and a finite width), got low = {low}, \
-                         high = {high}"
-                    ))
+                if !(low < high && (high - low).is_finite()) {
+                    return err(
+                        "high",
+                        format!(
+                            "uniform: needs `low` < `high` (and a finite width), got low = {low}, \
+                             high = {high}"
+                        ),
+                    );
                 }
+                let relative = (high - low) / low.abs().max(high.abs());
+                if relative < lo {
+                    return err(
+                        "high",
+                        format!(
+                            "uniform: the width high − low relative to the values must be at least {lo:e} ({WHY}), got low = {}, high = {}",
+                            crate::units::show(low),
+                            crate::units::show(high)
+                        ),
+                    );
+                }
+                Ok(())
             }
         }
     }
@@ -233,7 +320,50 @@ mod tests {
                     mean: 1.0,
                     cov: 0.0,
                 },
-                &["gamma", "`cov`", "> 0"],
+                &["gamma", "`cov`", "[1e-6, 1]"],
+            ),
+            // Issue 34: the gamma sampler's scale mean·cov² underflowed and it panicked.
+            (
+                Gamma {
+                    mean: 1.0,
+                    cov: 1e-163,
+                },
+                &["gamma", "`cov`", "[1e-6, 1]", "deterministic", "1e-163"],
+            ),
+            (
+                Gamma {
+                    mean: 1.0,
+                    cov: 1e-160,
+                },
+                &["gamma", "`cov`", "[1e-6, 1]"],
+            ),
+            (
+                LogNormal {
+                    mean: 1.0,
+                    cov: 3.0,
+                },
+                &["lognormal", "`cov`", "[1e-6, 1]"],
+            ),
+            (
+                Gamma {
+                    mean: 5e-324,
+                    cov: 0.1,
+                },
+                &["gamma", "`mean`", "too small"],
+            ),
+            (
+                Normal {
+                    mean: 250e3,
+                    std: 1e-300,
+                },
+                &["normal", "`std`", "[1e-6, 1]"],
+            ),
+            (
+                Uniform {
+                    low: 1.0,
+                    high: 1.0 + 1e-12,
+                },
+                &["uniform", "width", "1e-6"],
             ),
             (
                 Gamma {
@@ -261,7 +391,7 @@ mod tests {
                     mean: 2.0,
                     cov: -0.1,
                 },
-                &["lognormal", "`cov`", "> 0"],
+                &["lognormal", "`cov`", "[1e-6, 1]"],
             ),
             (
                 Normal {
@@ -309,7 +439,8 @@ mod tests {
         for (law, words) in cases {
             let msg = law
                 .validate()
-                .expect_err(&format!("{law:?} must be rejected"));
+                .expect_err(&format!("{law:?} must be rejected"))
+                .to_string();
             for w in *words {
                 assert!(msg.contains(w), "message for {law:?} lacks {w:?}: {msg}");
             }
@@ -321,7 +452,11 @@ mod tests {
             },
             LogNormal {
                 mean: 1.0,
-                cov: 3.0,
+                cov: 1.0,
+            },
+            Gamma {
+                mean: 1.0,
+                cov: 1e-6,
             },
             Normal {
                 mean: -4.0,

@@ -25,6 +25,6 @@ mod statistic;
 mod tests;
 
 pub use bootstrap::{Interval, percentile_interval};
-pub use distribution::{Distribution, lognormal_log_params};
+pub use distribution::{Distribution, LawError, SPREAD, lognormal_log_params};
 pub use sampling::{Sample, SampleRng, SampleSet, sample_rng, sample_seed, splitmix64_mix};
 pub use statistic::{Statistic, cvar, lower_cvar, max, mean, min, prob_exceed, quantile, std_dev};

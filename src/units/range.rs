@@ -1,15 +1,22 @@
 //! Admissible ranges of physical inputs: what a drillstring model can mean, wide enough for any
 //! real string, narrow enough that a typo (a missing unit, an exponent too many) is refused with
 //! the key named instead of running for hours or failing deep in the numerics.
+//!
+//! Every range is closed, [lo, hi], with a lower end chosen so that the model keeps its meaning
+//! (issue 34): an open end (0, hi] admitted 5e-324, and a V0 of 1e-300 m/h, a yield strength of
+//! 1e-300 Pa or a bit rate of 1e-300 s/m ran to absurd numbers with exit status 0. A value that
+//! is meaningful at exactly 0 but not just above it (V0 = 0 is off-bottom rotation, a gravity of
+//! 0 a weightless test) is admitted as an isolated 0 beside [lo, hi]: [`Range::zero_or`].
 
 use super::Dimension;
 
-/// An admissible range [lo, hi] (or (lo, hi] when `open_below`), in SI units, and why.
+/// An admissible range [lo, hi] in SI units (and the isolated value 0 when `zero`), and why.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Range {
     pub lo: f64,
     pub hi: f64,
-    pub open_below: bool,
+    /// 0 is admitted too (an "off" state such as off-bottom rotation); `lo` > 0.
+    pub zero: bool,
     pub why: &'static str,
 }
 
@@ -19,53 +26,56 @@ impl Range {
         Range {
             lo,
             hi,
-            open_below: false,
+            zero: false,
             why,
         }
     }
 
-    /// (lo, hi].
-    pub const fn open(lo: f64, hi: f64, why: &'static str) -> Range {
+    /// {0} ∪ [lo, hi], lo > 0: 0 is a state of its own (V0 = 0, off bottom), values between 0
+    /// and `lo` are not.
+    pub const fn zero_or(lo: f64, hi: f64, why: &'static str) -> Range {
+        assert!(lo > 0.0, "zero_or: the range above 0 must start above 0");
         Range {
             lo,
             hi,
-            open_below: true,
+            zero: true,
             why,
         }
     }
 
     /// Whether `x` is finite and inside the range.
     pub fn contains(&self, x: f64) -> bool {
-        x.is_finite()
-            && (if self.open_below {
-                x > self.lo
-            } else {
-                x >= self.lo
-            })
-            && x <= self.hi
+        x.is_finite() && ((x >= self.lo && x <= self.hi) || (self.zero && x == 0.0))
     }
 
-    /// "in [0, 1000] m/h (why)": the range in a unit of the dimension, `unit` being worth
-    /// `factor` SI units (as in [`Dimension::units`]), for messages in the unit a user typed.
+    /// "in [0, 1000] m/h (why)" (or "0 or in [0.1, 1000] m/h (why)"): the range in a unit of the
+    /// dimension, `unit` being worth `factor` SI units (as in [`Dimension::units`]), for messages
+    /// in the unit a user typed.
     pub fn describe_in(&self, unit: &str, factor: f64) -> String {
         let show = |x: f64| {
             let t = format!("{:.9}", x / factor);
             t.trim_end_matches('0').trim_end_matches('.').to_string()
         };
+        // No unit (a bare factor): no space before the reason.
+        let unit = if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
         format!(
-            "in {}{}, {}] {unit} ({})",
-            if self.open_below { "(" } else { "[" },
+            "{}in [{}, {}]{unit} ({})",
+            if self.zero { "0 or " } else { "" },
             show(self.lo),
             show(self.hi),
             self.why
         )
     }
 
-    /// "in (0, 15000] m (why)".
+    /// "in [1, 15000] m (why)", in the dimension's SI unit, the ends as Rust prints them.
     pub fn describe(&self, dim: Dimension) -> String {
         format!(
-            "in {}{}, {}] {} ({})",
-            if self.open_below { "(" } else { "[" },
+            "{}in [{}, {}] {} ({})",
+            if self.zero { "0 or " } else { "" },
             self.lo,
             self.hi,
             dim.si_unit(),
@@ -79,13 +89,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn open_and_closed_ends_and_non_finite_values() {
-        let o = Range::open(0.0, 1.0, "");
+    fn closed_ends_an_isolated_zero_and_non_finite_values() {
         let c = Range::closed(0.0, 1.0, "");
-        assert!(!o.contains(0.0) && c.contains(0.0));
-        assert!(o.contains(1.0) && !o.contains(1.0 + 1e-12));
+        assert!(c.contains(0.0) && c.contains(1.0) && !c.contains(1.0 + 1e-12));
         assert!(!c.contains(f64::NAN) && !c.contains(f64::INFINITY));
-        assert_eq!(o.describe(Dimension::Length), "in (0, 1] m ()");
+        assert_eq!(c.describe(Dimension::Length), "in [0, 1] m ()");
+        // 0 as a state of its own: nothing between it and the lower end (issue 34: a V0 of
+        // 1e-300 m/h made a fluctuation of 1.7e288).
+        let z = Range::zero_or(0.5, 1.0, "why");
+        assert!(z.contains(0.0) && z.contains(0.5) && z.contains(1.0));
+        assert!(
+            !z.contains(1e-300)
+                && !z.contains(5e-324)
+                && !z.contains(0.4)
+                && !z.contains(-0.0 - 1e-9)
+        );
+        assert_eq!(z.describe(Dimension::Length), "0 or in [0.5, 1] m (why)");
         let v0 = Range::closed(0.0, 1000.0 / 3600.0, "at most 1000 m/h");
         assert_eq!(
             v0.describe_in("m/h", 1.0 / 3600.0),

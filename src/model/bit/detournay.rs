@@ -55,7 +55,7 @@ const PARAMETERS: [ParameterSpec; 9] = [
     ParameterSpec {
         key: "model.bit.radius",
         dimension: Dimension::Length,
-        range: Range::open(0.0, 0.5, "a bit of at most 1 m across"),
+        range: Range::closed(5e-3, 0.5, "a bit 1 cm to 1 m across"),
         default: None,
         example: 0.108,
         doc: "bit radius a (0.108 m: an 8½ in bit)",
@@ -63,10 +63,11 @@ const PARAMETERS: [ParameterSpec; 9] = [
     ParameterSpec {
         key: "model.bit.specific_energy",
         dimension: Dimension::Pressure,
-        range: Range::open(
-            0.0,
+        // Below 1 MPa (softer than chalk) the bit would cut with no weight on it.
+        range: Range::closed(
+            1e6,
             2e9,
-            "ε, of the order of the rock's compressive strength",
+            "ε, of the order of the rock's compressive strength: 1 MPa to 2 GPa",
         ),
         default: None,
         example: 100e6,
@@ -75,7 +76,8 @@ const PARAMETERS: [ParameterSpec; 9] = [
     ParameterSpec {
         key: "model.bit.cutting_force_ratio",
         dimension: Dimension::Dimensionless,
-        range: Range::open(0.0, 5.0, "ζ, typically 0.5-0.9"),
+        // Below 0.1 the cutters would cut without pressing on the rock.
+        range: Range::closed(0.1, 5.0, "ζ, typically 0.5-0.9"),
         default: None,
         example: 0.6,
         doc: "ζ, normal over tangential cutting force",
@@ -107,7 +109,7 @@ const PARAMETERS: [ParameterSpec; 9] = [
     ParameterSpec {
         key: "model.bit.geometry",
         dimension: Dimension::Dimensionless,
-        range: Range::open(0.0, 5.0, "γ, about 1"),
+        range: Range::closed(0.1, 5.0, "γ, about 1 (1 to 4/3 for most bits)"),
         default: Some(1.0),
         example: 1.0,
         doc: "bit-geometry factor γ (1: flat-faced bit)",
@@ -115,7 +117,12 @@ const PARAMETERS: [ParameterSpec; 9] = [
     ParameterSpec {
         key: "model.bit.spin_smoothing",
         dimension: Dimension::AngularVelocity,
-        range: Range::open(0.0, 10.0, "small against the rotation speed"),
+        // A sticking bit cuts 2π u̇/ω_r per revolution: below 1 mrad/s that is metres at any feed.
+        range: Range::closed(
+            1e-3,
+            10.0,
+            "small against the rotation speed, at least 1 mrad/s",
+        ),
         default: Some(0.5),
         example: 0.5,
         doc: "ω_r: the depth of cut is 2π u̇/√(θ̇² + ω_r²), finite when the bit sticks",
@@ -123,7 +130,9 @@ const PARAMETERS: [ParameterSpec; 9] = [
     ParameterSpec {
         key: "model.bit.velocity_smoothing",
         dimension: Dimension::Velocity,
-        range: Range::open(0.0, 0.01, "small against V0"),
+        // The wear flats' force σaℓ tanh(u̇/v_r) has the slope σaℓ/v_r: below 1 µm/s (3.6 mm/h,
+        // far below the slowest feed, 0.1 m/h) a step function the Newton matrix cannot follow.
+        range: Range::closed(1e-6, 0.01, "small against V0, at least 1 µm/s"),
         default: Some(1e-4),
         example: 1e-4,
         doc: "v_r: the wear flats engage as tanh(u̇/v_r)",

@@ -25,7 +25,8 @@ const PARAMETERS: [ParameterSpec; 3] = [
     ParameterSpec {
         key: "model.bit.limit_force",
         dimension: Dimension::Force,
-        range: Range::closed(0.0, 5e6, "at most 5 MN on the bit"),
+        // Γ_BR is the rock's resistance: 0 (or 1e-300) drilled at any V0 with no weight on bit.
+        range: Range::closed(1e3, 5e6, "from 1 kN to 5 MN on the bit"),
         default: None,
         example: 250e3,
         doc: "limit force Γ_BR, the WOB approached at high penetration rates",
@@ -33,7 +34,14 @@ const PARAMETERS: [ParameterSpec; 3] = [
     ParameterSpec {
         key: "model.bit.rate",
         dimension: Dimension::InverseVelocity,
-        range: Range::open(0.0, 1e5, "the bit law's α_BR"),
+        // 1/α_BR is the feed at which the WOB reaches 63 % of Γ_BR: below 1 s/m that is beyond
+        // 3600 m/h, and the bit offers no resistance at any admissible feed (1e-300 drilled at
+        // 5 m/h with no weight on bit).
+        range: Range::closed(
+            1.0,
+            1e5,
+            "the bit law's α_BR; 1/α_BR, the feed of 63 % of Γ_BR, at most 3600 m/h",
+        ),
         default: None,
         example: 180.0,
         doc: "rate of change α_BR of the force with the bit's axial velocity",

@@ -42,7 +42,13 @@ pub(super) const FRICTION: ParameterSpec = ParameterSpec {
 pub(super) const SIGN_SMOOTHING: ParameterSpec = ParameterSpec {
     key: "model.wall.sign_smoothing",
     dimension: Dimension::AngularVelocity,
-    range: Range::open(0.0, 10.0, "small against the rotation speed"),
+    // The torque's slope μ|F|R_bh/ε at θ̇ = 0: below 1 µrad/s a step the Newton matrix cannot
+    // follow (the Coulomb law's slip_smoothing has the same kind of lower end).
+    range: Range::closed(
+        1e-6,
+        10.0,
+        "small against the rotation speed, at least 1 µrad/s",
+    ),
     default: Some(DEFAULT_SIGN_SMOOTHING),
     example: DEFAULT_SIGN_SMOOTHING,
     doc: "ε of the friction's smooth sign tanh(θ̇x/ε) (drillopt's regularisation)",

@@ -42,7 +42,10 @@ const PARAMETERS: [ParameterSpec; 5] = [
     ParameterSpec {
         key: "model.wall.stiffness",
         dimension: Dimension::Stiffness,
-        range: Range::open(0.0, 1e14, "contact stiffness of rock"),
+        // A node resting on the wall under a few hundred newtons of weight sinks millimetres into
+        // a wall of 1e5 N/m; softer is no wall (the cubic law's stiffness may be 0: its cubic
+        // term holds the string).
+        range: Range::closed(1e5, 1e14, "contact stiffness of rock, at least 100 kN/m"),
         default: None,
         example: 1e10,
         doc: "contact stiffness K of the borehole wall",
@@ -62,7 +65,8 @@ const PARAMETERS: [ParameterSpec; 5] = [
     ParameterSpec {
         key: "model.wall.impact_speed",
         dimension: Dimension::Velocity,
-        range: Range::open(0.0, 100.0, "a lateral impact speed"),
+        // λ = 3(1 − e)/(2 v_i): below 1 mm/s the damping makes a wall of tar.
+        range: Range::closed(1e-3, 100.0, "a lateral impact speed, 1 mm/s to 100 m/s"),
         default: None,
         example: 0.1,
         doc: "normal impact speed v_i at which the restitution is e",

@@ -1,0 +1,325 @@
+//! Issue 34: inputs inside the old admissible ranges whose consequences validation did not see.
+//! Each reproducer of the issue is refused at load (or before any work), naming the file or the
+//! flag, the key and the admissible range; none panics, none exits 0 with an absurd number.
+
+use drillopt::problem::{Problem, ProblemError};
+use std::path::Path;
+use std::process::{Command, Output};
+
+const TINY: &str = include_str!("../problems/regression/tiny_string.toml");
+const FILE: &str = "p34.toml";
+
+/// `TINY` with `old` (which must occur once) replaced by `new`.
+fn edit(old: &str, new: &str) -> String {
+    assert_eq!(TINY.matches(old).count(), 1, "`{old}` must occur once");
+    TINY.replace(old, new)
+}
+
+/// `TINY` with a line added after the header `[table]`.
+fn add(table: &str, line: &str) -> String {
+    edit(&format!("[{table}]\n"), &format!("[{table}]\n{line}\n"))
+}
+
+/// The one or more refusals of `text`, checked to name the file and the key `key`, and to say
+/// each of `words`.
+fn refused(text: &str, key: &str, words: &[&str]) -> String {
+    let err = Problem::from_toml(text, Path::new(FILE)).expect_err("must be refused");
+    let msg = err.to_string();
+    assert!(matches!(err, ProblemError::Invalid { .. }), "{msg}");
+    let e = err
+        .key_errors()
+        .iter()
+        .find(|e| e.key == key)
+        .unwrap_or_else(|| panic!("no refusal of `{key}`: {msg}"))
+        .clone();
+    assert!(
+        msg.contains(&format!("{FILE}: key `{key}`: ")),
+        "file and key not named: {msg}"
+    );
+    for w in words {
+        assert!(e.message.contains(w), "`{key}` lacks {w:?}: {}", e.message);
+    }
+    e.message
+}
+
+/// A gamma law on the bit's limit force (2 samples) with coefficient of variation `cov`.
+fn gamma_cov(cov: &str) -> String {
+    format!(
+        "{TINY}\n[uncertain]\nsamples = 2\n[[uncertain.parameter]]\nkey = \"model.bit.limit_force\"\nlaw = \"gamma\"\nmean = \"250 kN\"\ncov = {cov}\n"
+    )
+}
+
+fn drillopt(args: &[&str], dir: &Path, text: &str) -> Output {
+    let file = dir.join(FILE);
+    std::fs::write(&file, text).unwrap();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_drillopt"));
+    cmd.arg(args[0]).arg(&file).args(&args[1..]);
+    if args[0] != "simulate" {
+        cmd.arg("--quiet");
+    }
+    cmd.arg("--out").arg(dir.join("out")).output().unwrap()
+}
+
+/// Exit status 1 (not 101, not 0), and stderr saying each of `words`.
+fn refused_by_binary(out: &Output, words: &[&str]) -> String {
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    for w in words {
+        assert!(stderr.contains(w), "stderr lacks {w:?}: {stderr}");
+    }
+    stderr
+}
+
+#[test]
+fn a_gamma_law_with_a_vanishing_cov_is_refused_at_load_not_in_the_sampler() {
+    // 1e-163 panicked in the sampler ("ScaleTooSmall"); 1e-160 was refused at run time only.
+    for cov in ["1e-163", "1e-160", "1e-7", "0.0"] {
+        refused(
+            &gamma_cov(cov),
+            "uncertain.parameter[0].cov",
+            &["[1e-6, 1]", "deterministic", "without a law"],
+        );
+    }
+    refused(
+        &gamma_cov("3.0"),
+        "uncertain.parameter[0].cov",
+        &["[1e-6, 1]"],
+    );
+    Problem::from_toml(&gamma_cov("1e-6"), Path::new(FILE)).expect("cov = 1e-6 is admissible");
+    // Through the commands that panicked: exit status 1, the file and the key named.
+    let dir = tempfile::tempdir().unwrap();
+    for cmd in [
+        &["compare", "--point", "60rpm,5m/h"][..],
+        &["solve"][..],
+        &["map"][..],
+    ] {
+        let out = drillopt(cmd, dir.path(), &gamma_cov("1e-163"));
+        refused_by_binary(&out, &[FILE, "uncertain.parameter[0].cov", "[1e-6, 1]"]);
+    }
+}
+
+#[test]
+fn the_spread_of_normal_and_uniform_laws_has_a_lower_end() {
+    let law = |body: &str| {
+        format!(
+            "{TINY}\n[uncertain]\nsamples = 2\n[[uncertain.parameter]]\nkey = \"model.bit.limit_force\"\n{body}\n"
+        )
+    };
+    refused(
+        &law("law = \"normal\"\nmean = \"250 kN\"\nstd = \"1e-300 N\""),
+        "uncertain.parameter[0].std",
+        &["[1e-6, 1]"],
+    );
+    refused(
+        &law("law = \"uniform\"\nlow = \"250 kN\"\nhigh = \"250.0000000001 kN\""),
+        "uncertain.parameter[0].high",
+        &["1e-6"],
+    );
+}
+
+/// Every value a study draws is checked at load: a law whose bulk (mean ± 4σ) is admissible but
+/// whose tail is not is refused for some seed, naming the sample; and for every seed that loads,
+/// the run's own draws are admissible (the evaluator would otherwise refuse them without the
+/// file's name).
+#[test]
+fn every_draw_is_checked_where_the_law_is_loaded() {
+    let mut refusals = 0;
+    for seed in 0..40 {
+        // model.pipe.density is admissible in [1000, 25000] kg/m³: mean + 4σ = 25000.
+        let text = format!(
+            "{TINY}\n[uncertain]\nsamples = 10000\nseed = {seed}\n[[uncertain.parameter]]\nkey = \"model.pipe.density\"\nlaw = \"normal\"\nmean = \"21000 kg/m^3\"\nstd = \"1000 kg/m^3\"\n"
+        );
+        match Problem::from_toml(&text, Path::new(FILE)) {
+            Ok(p) => {
+                let laws: Vec<_> = p.study.uncertain.iter().map(|u| u.law).collect();
+                let set = drillopt::stats::SampleSet::draw(&laws, p.study.samples, p.study.seed);
+                for s in &set.samples {
+                    let key = &p.study.uncertain[0].key;
+                    assert!(key.admissible(&p.model, s.values[0]).is_ok(), "seed {seed}");
+                }
+            }
+            Err(e) => {
+                refusals += 1;
+                let msg = e.to_string();
+                assert!(
+                    msg.contains(&format!(
+                        "{FILE}: key `uncertain.parameter[0].law`: sample "
+                    )) && msg.contains("draws model.pipe.density = ")
+                        && msg.contains("[1000, 25000] kg/m3"),
+                    "{msg}"
+                );
+            }
+        }
+    }
+    assert!(refusals > 0, "no seed drew beyond 4σ in 40 × 10000 draws");
+}
+
+#[test]
+fn constraint_bounds_and_the_depth_of_cut_take_the_operating_point_ranges() {
+    const OMEGA: &str = "omega = [\"30 rpm\", \"150 rpm\"]";
+    const V0: &str = "v0 = [\"2 m/h\", \"20 m/h\"]";
+    refused(
+        &edit(OMEGA, "omega = [\"30 rpm\", 1e12]"),
+        "constraints.omega[1]",
+        &[
+            "the range of operating_point.omega",
+            "[1, 1000] rpm",
+            "got ",
+        ],
+    );
+    refused(
+        &edit(OMEGA, "omega = [\"1e-300 rpm\", \"150 rpm\"]"),
+        "constraints.omega[0]",
+        &["[1, 1000] rpm", "got 1e-300 rpm"],
+    );
+    refused(
+        &edit(V0, "v0 = [\"2 m/h\", \"2e8 m/h\"]"),
+        "constraints.v0[1]",
+        &["[0.1, 1000] m/h", "got 200000000 m/h"],
+    );
+    refused(
+        &edit(V0, "v0 = [\"1e-300 m/h\", \"20 m/h\"]"),
+        "constraints.v0[0]",
+        &["[0.1, 1000] m/h"],
+    );
+    for d in ["\"1e-300 m\"", "\"2 m\""] {
+        refused(
+            &edit(
+                "max_depth_of_cut = \"3 mm\"",
+                &format!("max_depth_of_cut = {d}"),
+            ),
+            "constraints.max_depth_of_cut",
+            &["[0.000001, 0.1] m"],
+        );
+    }
+    // Refused before solve simulates anything (it simulated 2.4e12 rpm and called it feasible).
+    let dir = tempfile::tempdir().unwrap();
+    let out = drillopt(
+        &["solve"],
+        dir.path(),
+        &edit(OMEGA, "omega = [\"30 rpm\", 1e12]"),
+    );
+    refused_by_binary(&out, &[FILE, "constraints.omega[1]", "[1, 1000] rpm"]);
+}
+
+#[test]
+fn command_line_quantities_take_the_ranges_of_their_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    for (point, key, range) in [
+        ("1e-300rpm,5m/h", "operating_point.omega", "[1, 1000] rpm"),
+        ("1e308rpm,5m/h", "operating_point.omega", "[1, 1000] rpm"),
+        (
+            "60rpm,1e-300m/h",
+            "operating_point.v0",
+            "0 or in [0.1, 1000] m/h",
+        ),
+    ] {
+        let out = drillopt(&["compare", "--point", point], dir.path(), TINY);
+        refused_by_binary(&out, &[&format!("--point {point}"), key, range]);
+    }
+    for (flag, value, words) in [
+        (
+            "--v0",
+            "1e-300m/h",
+            &["`operating_point.v0`", "0 or in [0.1, 1000] m/h"][..],
+        ),
+        (
+            "--omega",
+            "1e-300rpm",
+            &["`operating_point.omega`", "[1, 1000] rpm"][..],
+        ),
+        (
+            "--duration",
+            "1e-300",
+            &["`simulation.duration`", "[0.000001, 86400] s"][..],
+        ),
+    ] {
+        let out = drillopt(&["simulate", flag, value, "--quiet"], dir.path(), TINY);
+        let stderr = refused_by_binary(&out, words);
+        assert!(stderr.contains(flag), "{stderr}");
+    }
+}
+
+#[test]
+fn open_lower_ends_no_longer_admit_vanishing_values() {
+    // Each was (0, x] or [0, x] and ran to an absurd number with exit status 0.
+    refused(
+        &edit("v0 = \"5 m/h\"", "v0 = \"1e-300 m/h\""),
+        "operating_point.v0",
+        &["0 or in [0.1, 1000] m/h", "off-bottom"],
+    );
+    refused(
+        &add("model.pipe", "yield_strength = 1e-300"),
+        "model.pipe.yield_strength",
+        &["[10000000, 3000000000] Pa"],
+    );
+    for key in ["shear_factor", "torsion_factor"] {
+        let old = if key == "shear_factor" {
+            "shear_factor = \"cowper\""
+        } else {
+            "torsion_factor = \"shear\""
+        };
+        let text = if TINY.contains(old) {
+            edit(old, &format!("{key} = 1e-300"))
+        } else {
+            add("model.pipe", &format!("{key} = 1e-300"))
+        };
+        refused(&text, &format!("model.pipe.{key}"), &["[0.1, 1]"]);
+    }
+    refused(
+        &edit("rate = \"180 s/m\"", "rate = 1e-300"),
+        "model.bit.rate",
+        &["[1, 100000] s/m"],
+    );
+    refused(
+        &edit("limit_force = \"250 kN\"", "limit_force = 1e-300"),
+        "model.bit.limit_force",
+        &["[1000, 5000000] N"],
+    );
+    refused(
+        &edit("gravity = \"9.81 m/s^2\"", "gravity = 1e-300"),
+        "model.gravity",
+        &["0 or in [0.1, 30]"],
+    );
+    // The isolated zeros stay: off-bottom rotation and a weightless string.
+    let p = Problem::from_toml(&edit("v0 = \"5 m/h\"", "v0 = 0"), Path::new(FILE)).unwrap();
+    assert_eq!(p.operating_point.v0, 0.0);
+    let p = Problem::from_toml(
+        &edit("gravity = \"9.81 m/s^2\"", "gravity = 0"),
+        Path::new(FILE),
+    )
+    .unwrap();
+    assert_eq!(p.model.gravity, 0.0);
+    // And through the binary, before anything runs.
+    let dir = tempfile::tempdir().unwrap();
+    let out = drillopt(
+        &["simulate", "--quiet"],
+        dir.path(),
+        &edit("rate = \"180 s/m\"", "rate = 1e-300"),
+    );
+    refused_by_binary(&out, &[FILE, "model.bit.rate", "[1, 100000] s/m"]);
+}
+
+/// Every shipped problem file stays valid under the new ranges.
+#[test]
+fn every_shipped_problem_still_loads() {
+    fn walk(dir: &Path, n: &mut usize) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                walk(&path, n);
+            } else if path.extension().is_some_and(|x| x == "toml") {
+                let p = Problem::load(&path).unwrap_or_else(|e| panic!("{e}"));
+                assert!(p.study.inadmissible_draw(&p.model).is_none());
+                *n += 1;
+            }
+        }
+    }
+    let mut n = 0;
+    walk(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("problems"),
+        &mut n,
+    );
+    assert!(n >= 11);
+}
