@@ -255,15 +255,14 @@ fn open_lower_ends_no_longer_admit_vanishing_values() {
         &["[10000000, 3000000000] Pa"],
     );
     for key in ["shear_factor", "torsion_factor"] {
-        let old = if key == "shear_factor" {
-            "shear_factor = \"cowper\""
-        } else {
-            "torsion_factor = \"shear\""
-        };
-        let text = if TINY.contains(old) {
-            edit(old, &format!("{key} = 1e-300"))
-        } else {
-            add("model.pipe", &format!("{key} = 1e-300"))
+        // The file's own line of the key, whatever its value, is replaced.
+        let old = TINY
+            .lines()
+            .find(|l| l.starts_with(&format!("{key} =")))
+            .map(|l| format!("{l}\n"));
+        let text = match old {
+            Some(old) => edit(&old, &format!("{key} = 1e-300\n")),
+            None => add("model.pipe", &format!("{key} = 1e-300")),
         };
         refused(&text, &format!("model.pipe.{key}"), &["[0.1, 1]"]);
     }
