@@ -266,23 +266,15 @@ pub fn preloaded_equilibrium(
     let friction = model.string.wall.law().friction();
     let slipping = op.omega != 0.0 || op.v0 != 0.0;
     if !(effects.wall && friction > 0.0 && slipping) {
-        let iterations =
-            newton
-                .solve(&mut sys, &mut q, STATIC_ITERATIONS)
-                .map_err(|(iterations, update)| SimulationError::StaticEquilibrium {
-                    iterations,
-                    update,
-                })?;
+        let iterations = newton
+            .solve(&mut sys, &mut q, STATIC_ITERATIONS)
+            .map_err(not_converged)?;
         return Ok((q, iterations));
     }
     sys.set_friction_scale(0.0);
-    let mut total =
-        newton
-            .solve(&mut sys, &mut q, STATIC_ITERATIONS)
-            .map_err(|(iterations, update)| SimulationError::StaticEquilibrium {
-                iterations,
-                update,
-            })?;
+    let mut total = newton
+        .solve(&mut sys, &mut q, STATIC_ITERATIONS)
+        .map_err(not_converged)?;
     let climb = ClimbPredictor::new(model, op);
     let (mut reached, mut step) = (0.0_f64, 1.0_f64);
     let mut trial = q.clone();
@@ -378,6 +370,11 @@ impl<'m> ClimbPredictor<'m> {
     }
 }
 
+/// The error of a Newton solve of the starting state that did not converge.
+fn not_converged((iterations, update): (usize, f64)) -> SimulationError {
+    SimulationError::StaticEquilibrium { iterations, update }
+}
+
 /// r(q, 0, 0) = 0 at `op` with `effects`, from the straight string: see [`EquilibriumNewton`].
 fn equilibrium(
     model: &ReducedModel,
@@ -388,10 +385,7 @@ fn equilibrium(
     let mut q = DVector::zeros(model.size());
     let iterations = EquilibriumNewton::new(model)
         .solve(&mut sys, &mut q, STATIC_ITERATIONS)
-        .map_err(|(iterations, update)| SimulationError::StaticEquilibrium {
-            iterations,
-            update,
-        })?;
+        .map_err(not_converged)?;
     Ok((q, iterations))
 }
 
@@ -513,47 +507,49 @@ pub fn check_against_soft_string(
     let ss = crate::model::SoftString::steady(string, op);
     let (fa, ft) = ss.friction_part(string.length);
     let k = SOFT_STRING_FACTOR;
-    let load = |quantity, state: f64, estimate: f64, friction: f64| {
-        let within = (state - estimate).abs() <= 0.05 * estimate.abs();
+    let load = |state: f64, estimate: f64, friction: f64| {
         let part = state - (estimate - friction);
-        let friction_ok = friction > 0.0 && part >= friction / k && part <= friction * k;
-        if within || friction_ok {
-            Ok(())
-        } else {
-            Err(SimulationError::NonPhysicalStart {
-                quantity,
-                state,
-                estimate,
-                factor: k,
-            })
-        }
+        (state - estimate).abs() <= 0.05 * estimate.abs()
+            || (friction > 0.0 && part >= friction / k && part <= friction * k)
     };
-    load("top torque (N m)", obs.top_torque, ss.top_torque, ft)?;
-    load("top force (N)", obs.top_force, ss.top_force, fa)?;
-    let displacement = |quantity, state: f64, estimate: f64, floor: f64| {
-        if state.abs() <= k * estimate.abs() + floor {
-            Ok(())
-        } else {
-            Err(SimulationError::NonPhysicalStart {
-                quantity,
-                state,
-                estimate,
-                factor: k,
-            })
-        }
-    };
-    displacement(
-        "elastic bit displacement (m)",
-        obs.bit_u_elastic,
-        ss.bit_displacement,
-        string.gap(),
-    )?;
-    displacement(
-        "elastic bit twist (rad)",
-        obs.bit_theta_elastic,
-        ss.bit_twist,
-        0.1,
-    )
+    let displacement =
+        |state: f64, estimate: f64, floor: f64| state.abs() <= k * estimate.abs() + floor;
+    // (quantity, state, estimate, whether it passes), the first that fails refused.
+    let checks = [
+        (
+            "top torque (N m)",
+            obs.top_torque,
+            ss.top_torque,
+            load(obs.top_torque, ss.top_torque, ft),
+        ),
+        (
+            "top force (N)",
+            obs.top_force,
+            ss.top_force,
+            load(obs.top_force, ss.top_force, fa),
+        ),
+        (
+            "elastic bit displacement (m)",
+            obs.bit_u_elastic,
+            ss.bit_displacement,
+            displacement(obs.bit_u_elastic, ss.bit_displacement, string.gap()),
+        ),
+        (
+            "elastic bit twist (rad)",
+            obs.bit_theta_elastic,
+            ss.bit_twist,
+            displacement(obs.bit_theta_elastic, ss.bit_twist, 0.1),
+        ),
+    ];
+    match checks.into_iter().find(|c| !c.3) {
+        None => Ok(()),
+        Some((quantity, state, estimate, _)) => Err(SimulationError::NonPhysicalStart {
+            quantity,
+            state,
+            estimate,
+            factor: k,
+        }),
+    }
 }
 
 /// Newton iterations allowed for the static equilibrium (and for the frictionless stage of the
