@@ -6,7 +6,6 @@
 mod common;
 
 use drillopt::campbell::*;
-use drillopt::fem::{BoundaryConditions, Dof, ElementInertia, assemble};
 use drillopt::rom::{Family, ReducedModel};
 use nalgebra::DMatrix;
 use std::f64::consts::{PI, TAU};
@@ -285,37 +284,14 @@ fn critical_speeds_of_the_rotor_are_found_in_closed_form() {
 #[test]
 fn a_spinning_simply_supported_beam_splits_as_the_rayleigh_beam() {
     let p = common::seed();
-    let n = 30;
-    let global = assemble(&p.model, n);
-    let bc = BoundaryConditions::free(n)
-        .fix(0, &[Dof::U, Dof::ThetaX, Dof::V, Dof::W])
-        .fix(n, &[Dof::V, Dof::W]);
-    let free = bc.free_dofs();
-    let dof = global.dof();
-    let mut g_full = DMatrix::zeros(dof, dof);
-    let g_e = ElementInertia::new(&global.element).gyroscopic();
-    for e in 0..n {
-        for i in 0..12 {
-            for j in 0..12 {
-                g_full[(6 * e + i, 6 * e + j)] += g_e[(i, j)];
-            }
-        }
-    }
-    let restrict = |f: &dyn Fn(usize, usize) -> f64| {
-        DMatrix::from_fn(free.len(), free.len(), |i, j| f(free[i], free[j]))
-    };
-    let lateral = |d: Dof| {
-        DMatrix::from_fn(n + 1, free.len(), |node, j| {
-            f64::from(u8::from(free[j] == d.at(node)))
-        })
-    };
+    let m = common::simply_supported(&p.model, 30);
     let sys = LinearSystem::from_parts(
-        restrict(&|i, j| global.mass[(i, j)]),
-        restrict(&|i, j| global.stiffness[(i, j)]),
-        restrict(&|i, j| g_full[(i, j)]),
+        m.mass,
+        m.stiffness,
+        m.gyroscopic,
         None,
-        free.iter().map(|&i| Family::of(Dof::of_index(i))).collect(),
-        [lateral(Dof::V), lateral(Dof::W)],
+        m.families,
+        m.lateral,
     )
     .unwrap();
     let (rho, l) = (common::Table1::RHO, common::Table1::L);

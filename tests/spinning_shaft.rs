@@ -41,7 +41,6 @@
 mod common;
 
 use drillopt::campbell::*;
-use drillopt::fem::{BoundaryConditions, Dof, ElementInertia, assemble};
 use drillopt::model::{BasisSpec, Drillstring};
 use drillopt::rom::{Family, ReducedModel};
 use nalgebra::DMatrix;
@@ -295,37 +294,13 @@ fn modal_system(
 #[test]
 fn a_simply_supported_rayleigh_shaft_whirls_as_its_closed_form() {
     let string = shaft(RIGID_SHEAR);
-    let n = ELEMENTS;
-    let global = assemble(&string, n);
-    let bc = BoundaryConditions::free(n)
-        .fix(0, &[Dof::U, Dof::ThetaX, Dof::V, Dof::W])
-        .fix(n, &[Dof::V, Dof::W]);
-    let free = bc.free_dofs();
-    let dof = global.dof();
-    let mut g_full = DMatrix::zeros(dof, dof);
-    let g_e = ElementInertia::new(&global.element).gyroscopic();
-    for e in 0..n {
-        for i in 0..12 {
-            for j in 0..12 {
-                g_full[(6 * e + i, 6 * e + j)] += g_e[(i, j)];
-            }
-        }
-    }
-    let restrict = |f: &dyn Fn(usize, usize) -> f64| {
-        DMatrix::from_fn(free.len(), free.len(), |i, j| f(free[i], free[j]))
-    };
-    let lateral = |d: Dof| {
-        DMatrix::from_fn(n + 1, free.len(), |node, j| {
-            f64::from(u8::from(free[j] == d.at(node)))
-        })
-    };
-    let families: Vec<Family> = free.iter().map(|&i| Family::of(Dof::of_index(i))).collect();
+    let m = common::simply_supported(&string, ELEMENTS);
     let sys = modal_system(
-        restrict(&|i, j| global.mass[(i, j)]),
-        restrict(&|i, j| global.stiffness[(i, j)]),
-        restrict(&|i, j| g_full[(i, j)]),
-        &families,
-        [lateral(Dof::V), lateral(Dof::W)],
+        m.mass,
+        m.stiffness,
+        m.gyroscopic,
+        &m.families,
+        m.lateral,
         30,
     );
     let closed = Shaft::new(RIGID_SHEAR, LENGTH);

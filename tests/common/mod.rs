@@ -170,3 +170,55 @@ pub fn drillopt(args: &[&str]) -> std::process::Output {
         .output()
         .expect("drillopt runs")
 }
+
+/// The matrices of a simply supported (pinned–pinned) spinning beam of `string` on `elements`
+/// elements, restricted to its free DOFs: the top end holds u, θx, v, w, the bit end v, w, and
+/// no rotation is held (the string's own supports clamp the top's θy, θz, so its modes are
+/// clamped–pinned). Mass, stiffness, the gyroscopic matrix per unit spin, each free DOF's family,
+/// and the selectors of the lateral v and w of every node (rows: nodes).
+pub struct SimplySupported {
+    pub mass: nalgebra::DMatrix<f64>,
+    pub stiffness: nalgebra::DMatrix<f64>,
+    pub gyroscopic: nalgebra::DMatrix<f64>,
+    pub families: Vec<drillopt::rom::Family>,
+    pub lateral: [nalgebra::DMatrix<f64>; 2],
+}
+
+pub fn simply_supported(string: &drillopt::model::Drillstring, elements: usize) -> SimplySupported {
+    use drillopt::fem::{BoundaryConditions, Dof, ElementInertia, assemble};
+    use nalgebra::DMatrix;
+    let n = elements;
+    let global = assemble(string, n);
+    let bc = BoundaryConditions::free(n)
+        .fix(0, &[Dof::U, Dof::ThetaX, Dof::V, Dof::W])
+        .fix(n, &[Dof::V, Dof::W]);
+    let free = bc.free_dofs();
+    let dof = global.dof();
+    let mut g_full = DMatrix::zeros(dof, dof);
+    let g_e = ElementInertia::new(&global.element).gyroscopic();
+    for e in 0..n {
+        for i in 0..12 {
+            for j in 0..12 {
+                g_full[(6 * e + i, 6 * e + j)] += g_e[(i, j)];
+            }
+        }
+    }
+    let restrict = |f: &dyn Fn(usize, usize) -> f64| {
+        DMatrix::from_fn(free.len(), free.len(), |i, j| f(free[i], free[j]))
+    };
+    let lateral = |d: Dof| {
+        DMatrix::from_fn(n + 1, free.len(), |node, j| {
+            f64::from(u8::from(free[j] == d.at(node)))
+        })
+    };
+    SimplySupported {
+        mass: restrict(&|i, j| global.mass[(i, j)]),
+        stiffness: restrict(&|i, j| global.stiffness[(i, j)]),
+        gyroscopic: restrict(&|i, j| g_full[(i, j)]),
+        families: free
+            .iter()
+            .map(|&i| drillopt::rom::Family::of(Dof::of_index(i)))
+            .collect(),
+        lateral: [lateral(Dof::V), lateral(Dof::W)],
+    }
+}
