@@ -46,6 +46,19 @@ impl SparsityPattern {
         self.n
     }
 
+    /// The (n + 1) × (n + 1) pattern with this one in its leading block and a full last row and
+    /// column (an unknown coupled with all others, such as a free top's block position).
+    pub fn bordered(&self) -> Self {
+        let n = self.n;
+        let mut columns: Vec<Vec<usize>> = self
+            .columns
+            .iter()
+            .map(|rows| rows.iter().copied().chain([n]).collect())
+            .collect();
+        columns.push((0..=n).collect());
+        SparsityPattern { n: n + 1, columns }
+    }
+
     /// The rows of each column (sorted).
     pub fn columns(&self) -> impl Iterator<Item = &[usize]> {
         self.columns.iter().map(Vec::as_slice)

@@ -9,6 +9,7 @@ pub mod law;
 pub mod parameters;
 mod params;
 mod section;
+mod top;
 mod torque_drag;
 pub mod wall;
 
@@ -22,5 +23,9 @@ pub use params::{
     Simulation, Start,
 };
 pub use section::{Section, cowper_shear_factor};
+pub use top::{
+    Autodriller, DEFAULT_TIME_CONSTANT, TIME_CONSTANT_RANGE, TOP_DRIVES, TORQUE_RANGE, TopDrive,
+    WOB_RANGE, autodriller_acceleration,
+};
 pub use torque_drag::SoftString;
 pub use wall::{NormalForce, WallContact, WallContactLaw, WallFriction};

@@ -83,6 +83,12 @@ pub struct Drillstring {
     /// problem without it is unchanged.
     #[serde(skip_serializing_if = "is_zero")]
     pub bit_inertia: f64,
+    /// How the top drive moves the string along its axis (`[operating_point] top`, MODEL.md
+    /// §11.8): the paper's imposed feed, a hook-load set-point or an autodriller. Left out of the
+    /// serialised model for the imposed feed, so that the model hash of a problem without it is
+    /// unchanged.
+    #[serde(skip_serializing_if = "super::TopDrive::is_feed")]
+    pub top: super::TopDrive,
 }
 
 /// Whether a value is 0 (`serde(skip_serializing_if)`).

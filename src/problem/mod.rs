@@ -15,6 +15,7 @@ mod validate_explore;
 mod validate_fatigue;
 mod validate_study;
 mod validate_threshold;
+mod validate_top;
 
 pub use crate::units::{self, Dimension, UnitError};
 pub use error::{KeyError, ProblemError};

@@ -166,6 +166,16 @@ pub struct BasisSection {
 pub struct OperatingPointSection {
     pub omega: RawQuantity,
     pub v0: RawQuantity,
+    /// `"feed"` (default), `"hook_load"` or `"autodriller"` (MODEL.md §11.8).
+    pub top: Option<RawQuantity>,
+    /// The hook-load top's surface WOB set-point.
+    pub wob: Option<RawQuantity>,
+    /// The autodriller's surface WOB limit.
+    pub wob_limit: Option<RawQuantity>,
+    /// The autodriller's surface torque limit (none when absent).
+    pub torque_limit: Option<RawQuantity>,
+    /// The autodriller's time constant τ.
+    pub autodriller_time_constant: Option<RawQuantity>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

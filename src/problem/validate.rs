@@ -461,6 +461,11 @@ pub(super) fn problem(
     let model = c.section(drillstring(&c, &raw.model));
     let mesh = c.section(mesh(&c, &raw.mesh));
     let operating_point = c.section(operating_point(&c, &raw.operating_point));
+    let top = c.section(super::validate_top::top(&c, &raw.operating_point));
+    let mut model = model;
+    if let (Some(m), Some(top)) = (model.as_mut(), top) {
+        m.top = top;
+    }
     let length = model.as_ref().map_or(f64::NAN, |m| m.length);
     let simulation = c.section(simulation(&c, &raw.simulation, length));
     let mut study = model
@@ -598,6 +603,8 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         wall,
         wall_friction,
         bit,
+        // Set from `[operating_point]` by `problem`.
+        top: crate::model::TopDrive::Feed,
     })
 }
 

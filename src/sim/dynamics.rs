@@ -65,6 +65,11 @@ pub struct Observation {
     pub power_top: f64,
     /// Power of the rock on the string F_BR u̇ + T_BR θ̇, W.
     pub power_bit: f64,
+    /// The block's position s (the top's axial position, u(0, t)), m: V0 t for the imposed feed;
+    /// set by the run (the system knows no time).
+    pub block_position: f64,
+    /// The block's speed ṡ, m/s.
+    pub block_speed: f64,
 }
 
 /// The drillstring system at one operating point, with its work buffers.
@@ -72,6 +77,13 @@ pub struct Dynamics<'m> {
     pub model: &'m ReducedModel,
     op: OperatingPoint,
     effects: Effects,
+    /// The rigid axial motion's velocity ṡ and acceleration s̈ (V0 and 0 for the imposed feed;
+    /// set by [`super::FreeTop`] for the other tops).
+    rigid_axial: [f64; 2],
+    /// The rigid axial velocity in the attempt base `attempt_full` (see `begin_attempt`).
+    attempt_rigid_velocity: f64,
+    /// The rigid axial velocity of the `evaluated` state.
+    evaluated_rigid_velocity: f64,
     gap: f64,
     wall: WallGeometry,
     q_full: DVector<f64>,
@@ -115,6 +127,9 @@ impl<'m> Dynamics<'m> {
             model,
             op,
             effects,
+            rigid_axial: [op.v0, 0.0],
+            attempt_rigid_velocity: op.v0,
+            evaluated_rigid_velocity: op.v0,
             gap: model.string.gap(),
             wall: WallGeometry::of(&model.string),
             q_full: DVector::zeros(ndof),
@@ -154,7 +169,11 @@ impl<'m> Dynamics<'m> {
     fn evaluate(&mut self, q: &DVector<f64>, v: &DVector<f64>, a: &DVector<f64>) {
         let [eq, ev, ea] = &self.evaluated;
         let same = |x: &DVector<f64>, y: &DVector<f64>| x.as_slice() == y.as_slice();
-        if same(eq, q) && same(ev, v) && same(ea, a) {
+        if same(eq, q)
+            && same(ev, v)
+            && same(ea, a)
+            && self.evaluated_rigid_velocity == self.rigid_axial[0]
+        {
             return;
         }
         if self.on_attempt(q, v, a) {
@@ -173,6 +192,12 @@ impl<'m> Dynamics<'m> {
                 *q = qp + cq * a;
                 *v = vp + cv * a;
             }
+            let change = self.rigid_axial[0] - self.attempt_rigid_velocity;
+            if change != 0.0 {
+                for node in 0..self.model.nodes() {
+                    self.v_full[Dof::U.at(node)] += change;
+                }
+            }
         } else {
             self.expand(q, v, a);
         }
@@ -180,6 +205,7 @@ impl<'m> Dynamics<'m> {
         for (e, x) in self.evaluated.iter_mut().zip([q, v, a]) {
             copy_vector(e, x);
         }
+        self.evaluated_rigid_velocity = self.rigid_axial[0];
     }
 
     /// Whether (q, q̇) = (q_p + c_q q̈, v_p + c_v q̈) of the announced attempt, exactly as the
@@ -199,7 +225,7 @@ impl<'m> Dynamics<'m> {
         phi.expand(q, &mut self.q_full, work);
         phi.expand(v, &mut self.v_full, work);
         phi.expand(a, &mut self.a_full, work);
-        add_rigid_velocity(&mut self.v_full, self.op);
+        add_rigid_velocity(&mut self.v_full, self.rigid_axial[0], self.op.omega);
     }
 
     fn element_state(x: &DVector<f64>, e: usize) -> ElementVector {
@@ -297,6 +323,46 @@ impl<'m> Dynamics<'m> {
         self.evaluated[0].fill(f64::NAN);
     }
 
+    /// The rigid axial motion's velocity ṡ (m/s) and acceleration s̈ (m/s²) of the states that
+    /// follow (the imposed feed's are V0 and 0).
+    pub fn set_rigid_axial(&mut self, velocity: f64, acceleration: f64) {
+        self.rigid_axial = [velocity, acceleration];
+    }
+
+    /// The operating point (Ω, and the feed V0 or the autodriller's set-point).
+    pub fn op(&self) -> OperatingPoint {
+        self.op
+    }
+
+    /// Whether damping is on (the rigid motion's damping load belongs to the top loads).
+    pub fn damping_on(&self) -> bool {
+        self.effects.damping
+    }
+
+    /// The top-drive loads [F_top (N), T_top (N·m)] at the modal velocity and acceleration
+    /// (v, a) of the last evaluated state: the global balance of the string along the rigid
+    /// motion, F_top = e_uᵀ(M Q̈ + C Q̇ + f − F), T_top = e_θᵀ(…). In the reduced model only
+    /// Φᵀ R = 0 holds, so this (not the local reaction of element 0) is the load whose power
+    /// Q̇_rigidᵀ R closes the energy balance; e_uᵀ f_int = e_θᵀ f_int = 0 exactly (the strain
+    /// energy is invariant under rigid translation and spin). F_top > 0 pushes towards the bit.
+    pub fn top_loads(&self, v: &DVector<f64>, a: &DVector<f64>) -> [f64; 2] {
+        let m = self.model;
+        let c = if self.effects.damping { 1.0 } else { 0.0 };
+        let mut resultant = [0.0; 2];
+        for node in 0..m.nodes() {
+            resultant[0] += self.f_full[Dof::U.at(node)];
+            resultant[1] += self.f_full[Dof::ThetaX.at(node)];
+        }
+        let rigid = [self.rigid_axial[0], self.op.omega];
+        let accel = [self.rigid_axial[1], 0.0];
+        std::array::from_fn(|k| {
+            resultant[k]
+                + m.rigid_mass[k].dot(a)
+                + accel[k] * m.rigid_self_mass[k]
+                + c * (m.rigid_damping[k].dot(v) + rigid[k] * m.rigid_self_damping[k])
+        })
+    }
+
     /// What the time history records at a state.
     pub fn observe(&mut self, q: &DVector<f64>, v: &DVector<f64>, a: &DVector<f64>) -> Observation {
         self.evaluate(q, v, a);
@@ -316,29 +382,14 @@ impl<'m> Dynamics<'m> {
         a: &DVector<f64>,
     ) -> Observation {
         let m = self.model;
-        let (v0, om) = (self.op.v0, self.op.omega);
-        // Top-drive load = global balance of the string along the rigid motion:
-        // F_top = e_uᵀ(M Q̈ + C Q̇ + f − F), T_top = e_θᵀ(…). In the reduced model only Φᵀ R = 0
-        // holds, so this (not the local reaction of element 0) is the load whose power
-        // Q̇_rigidᵀ R closes the energy balance; e_uᵀ f_int = e_θᵀ f_int = 0 exactly (the strain
-        // energy is invariant under rigid translation and spin).
-        let c = if self.effects.damping { 1.0 } else { 0.0 };
-        let mut resultant = [0.0; 2];
-        for node in 0..m.nodes() {
-            resultant[0] += self.f_full[Dof::U.at(node)];
-            resultant[1] += self.f_full[Dof::ThetaX.at(node)];
-        }
+        let (v0, om) = (self.rigid_axial[0], self.op.omega);
         let rigid = [v0, om];
-        let top = |k: usize| {
-            resultant[k]
-                + m.rigid_mass[k].dot(a)
-                + c * (m.rigid_damping[k].dot(v) + rigid[k] * m.rigid_self_damping[k])
-        };
-        let (top_force, top_torque) = (top(0), top(1));
+        let [top_force, top_torque] = self.top_loads(v, a);
         // Energies.
         let mut kinetic = 0.5 * m.mass.quadratic(v);
         let mut dissipation = 0.0;
         for (k, &r) in rigid.iter().enumerate() {
+            // (e_θᵀ M e_u = 0: the translation and the spin do not share kinetic energy.)
             kinetic += r * m.rigid_mass[k].dot(v) + 0.5 * r * r * m.rigid_self_mass[k];
             if self.effects.damping {
                 dissipation +=
@@ -391,6 +442,7 @@ impl<'m> Dynamics<'m> {
         obs.potential_energy = strain + wall_elastic + gravity;
         obs.dissipation = dissipation;
         obs.power_top = top_force * v0 + top_torque * om;
+        obs.block_speed = v0;
         obs.power_bit = self.bit.force * obs.bit_velocity + self.bit.torque * obs.bit_spin;
         obs
     }
@@ -413,11 +465,12 @@ impl<'m> Dynamics<'m> {
     }
 }
 
-/// Adds the rigid velocity field (V0 on every u, Ω on every θx) to a full-mesh elastic velocity.
-fn add_rigid_velocity(v_full: &mut DVector<f64>, op: OperatingPoint) {
+/// Adds the rigid velocity field (`axial` on every u, `spin` on every θx) to a full-mesh elastic
+/// velocity.
+fn add_rigid_velocity(v_full: &mut DVector<f64>, axial: f64, spin: f64) {
     for node in 0..v_full.len() / 6 {
-        v_full[Dof::U.at(node)] += op.v0;
-        v_full[Dof::ThetaX.at(node)] += op.omega;
+        v_full[Dof::U.at(node)] += axial;
+        v_full[Dof::ThetaX.at(node)] += spin;
     }
 }
 
@@ -431,7 +484,8 @@ impl ImplicitSystem for Dynamics<'_> {
         let [q_full, v_full] = &mut self.attempt_full;
         phi.expand(qp, q_full, work);
         phi.expand(vp, v_full, work);
-        add_rigid_velocity(v_full, self.op);
+        add_rigid_velocity(v_full, self.rigid_axial[0], self.op.omega);
+        self.attempt_rigid_velocity = self.rigid_axial[0];
         copy_vector(&mut self.attempt_modal[0], qp);
         copy_vector(&mut self.attempt_modal[1], vp);
         self.attempt = Some((cq, cv));
@@ -456,8 +510,12 @@ impl ImplicitSystem for Dynamics<'_> {
         m.mass.mul_add(1.0, a, out);
         if self.effects.damping {
             m.damping.mul_add(1.0, v, out);
-            out.axpy(self.op.v0, &m.rigid_damping[0], 1.0);
+            out.axpy(self.rigid_axial[0], &m.rigid_damping[0], 1.0);
             out.axpy(self.op.omega, &m.rigid_damping[1], 1.0);
+        }
+        if self.rigid_axial[1] != 0.0 {
+            // The inertia of the rigid axial acceleration, Φᵀ M e_u s̈.
+            out.axpy(self.rigid_axial[1], &m.rigid_mass[0], 1.0);
         }
         if self.effects.gravity {
             *out -= &m.gravity;

@@ -7,6 +7,7 @@ mod contact_tangent;
 mod dynamics;
 mod envelope;
 mod fatigue;
+mod free_top;
 mod run;
 mod sampler;
 mod series;
@@ -16,6 +17,7 @@ pub use contact::{NodeContact, NodeMotion, WallGeometry, wall_contact};
 pub use dynamics::{Dynamics, Effects, Observation};
 pub use envelope::StressEnvelope;
 pub use fatigue::{FATIGUE_FIBRES, SectionFatigue};
+pub use free_top::{FreeTop, START_TOLERANCE, free_top_start};
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,
     STEPS_PER_PERIOD, SimulationError, SolverStats, check_against_soft_string,

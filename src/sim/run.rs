@@ -12,7 +12,7 @@
 
 use super::envelope::StressEnvelope;
 use super::series::{Frame, Row, Sink};
-use super::{Dynamics, Effects, NodeContact, Observation, TimeSeries};
+use super::{Dynamics, Effects, FreeTop, NodeContact, Observation, TimeSeries};
 use crate::fem::Dof;
 use crate::fem::SectionStress;
 use crate::integrate::{
@@ -138,6 +138,14 @@ pub enum SimulationError {
         state: f64,
         estimate: f64,
         factor: f64,
+    },
+    #[error(
+        "no steady drilling state satisfies top = \"{top}\": {at} the top load is {load_ratio:.4} times its set-point or limit; lower the set-point or raise the limit, or choose another bit law"
+    )]
+    NoSteadyDrilling {
+        top: &'static str,
+        at: &'static str,
+        load_ratio: f64,
     },
     #[error("at t = {time:.6} s the time step fell below {min_step:e} s ({reason})")]
     StepTooSmall {
@@ -693,6 +701,9 @@ pub fn resolving_step(model: &ReducedModel) -> f64 {
 /// and Newton tests (modal coordinates: weights ω_i, floored at the lowest mode's so that no
 /// coordinate is ignored; nodal coordinates: √(qᵀ K q), the same norm) and, for the unreduced
 /// model, a sparse LU of its Newton matrices.
+/// With a free top (q0 one longer than the basis) the block's coordinate s weighs like a modal
+/// coordinate of the lowest frequency and the string's axial mass, ω_min √M_s (in a sparse energy
+/// norm, the diagonal entry ω_min² M_s), and the Newton matrix gains a full last row and column.
 fn integrator(
     model: &ReducedModel,
     settings: crate::integrate::NewmarkSettings,
@@ -700,17 +711,160 @@ fn integrator(
     v0: DVector<f64>,
 ) -> Newmark {
     let n = model.size();
-    let nm = Newmark::new(settings, 0.0, q0, v0, DVector::zeros(n));
+    let size = q0.len();
+    let block = size > n;
+    let floor = model.omega2.min().max(1e-12).sqrt();
+    let block_weight2 = floor * floor * model.rigid_self_mass[0];
+    let nm = Newmark::new(settings, 0.0, q0, v0, DVector::zeros(size));
     let nm = match &model.stiffness {
+        Operator::Sparse(k) if block => nm.with_energy_norm(bordered(k, block_weight2)),
         Operator::Sparse(k) => nm.with_energy_norm(k.clone()),
         _ => {
-            let floor = model.omega2.min().max(1e-12).sqrt();
-            nm.with_weights(model.omega2.map(|w2| w2.sqrt().max(floor)))
+            let mut weights = model.omega2.map(|w2| w2.sqrt().max(floor));
+            if block {
+                weights = weights.push(block_weight2.sqrt());
+            }
+            nm.with_weights(weights)
         }
     };
     match &model.jacobian_pattern {
+        Some(pattern) if block => nm.with_sparse_jacobian(&pattern.bordered()),
         Some(pattern) => nm.with_sparse_jacobian(pattern),
         None => nm,
+    }
+}
+
+/// `k` (n × n) with a last row and column that are zero but for `corner` on the diagonal.
+fn bordered(
+    k: &faer::sparse::SparseColMat<usize, f64>,
+    corner: f64,
+) -> faer::sparse::SparseColMat<usize, f64> {
+    let n = k.nrows();
+    let mut triplets: Vec<faer::sparse::Triplet<usize, usize, f64>> = Vec::new();
+    let (col_ptr, row_idx, values) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
+    for j in 0..n {
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            triplets.push(faer::sparse::Triplet::new(row_idx[p], j, values[p]));
+        }
+    }
+    triplets.push(faer::sparse::Triplet::new(n, n, corner));
+    faer::sparse::SparseColMat::try_new_from_triplets(n + 1, n + 1, &triplets)
+        .expect("a valid bordered pattern")
+}
+
+/// The system a run integrates: the string under the imposed feed, or with the block free.
+enum Driven<'m> {
+    Feed(Dynamics<'m>),
+    Free(FreeTop<'m>),
+}
+
+impl<'m> Driven<'m> {
+    fn new(model: &'m ReducedModel, op: OperatingPoint, effects: Effects) -> Self {
+        let dynamics = Dynamics::new(model, op, effects);
+        match model.string.top {
+            crate::model::TopDrive::Feed => Driven::Feed(dynamics),
+            top => Driven::Free(FreeTop::new(dynamics, top, op.v0)),
+        }
+    }
+
+    fn dynamics(&self) -> &Dynamics<'m> {
+        match self {
+            Driven::Feed(d) => d,
+            Driven::Free(f) => &f.dynamics,
+        }
+    }
+
+    /// [`Dynamics::observe`] at time `t`, with the block's position and speed.
+    fn observe(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        a: &DVector<f64>,
+    ) -> Observation {
+        match self {
+            Driven::Feed(d) => {
+                let mut obs = d.observe(q, v, a);
+                obs.block_position = d.op().v0 * t;
+                obs
+            }
+            Driven::Free(f) => {
+                let mut r = DVector::zeros(q.len());
+                f.residual(t, q, v, a, &mut r);
+                f.observe_step(q, v, a)
+            }
+        }
+    }
+
+    /// [`Dynamics::observe_step`] at time `t`, with the block's position and speed.
+    fn observe_step(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        a: &DVector<f64>,
+    ) -> Observation {
+        match self {
+            Driven::Feed(d) => {
+                let mut obs = d.observe_step(q, v, a);
+                obs.block_position = d.op().v0 * t;
+                obs
+            }
+            Driven::Free(f) => f.observe_step(q, v, a),
+        }
+    }
+}
+
+impl ImplicitSystem for Driven<'_> {
+    fn size(&self) -> usize {
+        match self {
+            Driven::Feed(d) => d.size(),
+            Driven::Free(f) => f.size(),
+        }
+    }
+
+    fn begin_attempt(&mut self, qp: &DVector<f64>, vp: &DVector<f64>, cq: f64, cv: f64) {
+        match self {
+            Driven::Feed(d) => d.begin_attempt(qp, vp, cq, cv),
+            Driven::Free(f) => f.begin_attempt(qp, vp, cq, cv),
+        }
+    }
+
+    fn jacobian_reusable(&self) -> bool {
+        match self {
+            Driven::Feed(d) => d.jacobian_reusable(),
+            Driven::Free(f) => f.jacobian_reusable(),
+        }
+    }
+
+    fn residual(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        a: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        match self {
+            Driven::Feed(d) => d.residual(t, q, v, a, out),
+            Driven::Free(f) => f.residual(t, q, v, a, out),
+        }
+    }
+
+    fn jacobian(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        a: &DVector<f64>,
+        c: JacobianCoefficients,
+        refresh: bool,
+        out: &mut DMatrix<f64>,
+    ) {
+        match self {
+            Driven::Feed(d) => d.jacobian(t, q, v, a, c, refresh, out),
+            Driven::Free(f) => f.jacobian(t, q, v, a, c, refresh, out),
+        }
     }
 }
 
@@ -764,10 +918,29 @@ pub fn simulate_into<S: Sink>(
         stress: SectionStress::new(&model.string, element_length),
     };
     let preloaded = matches!(initial, InitialState::Preloaded);
+    let free = model.string.top.is_free();
+    // With a free top the block's position s is unknown n + 1 (s = 0 at the start), its speed
+    // the steady one of the pre-loaded start, else 0 (the block at rest).
+    let with_block = |(q, v, i): (DVector<f64>, DVector<f64>, usize), speed: f64| {
+        if free && q.len() == n {
+            (q.push(0.0), v.push(speed), i)
+        } else {
+            (q, v, i)
+        }
+    };
+    // The steady block speed of a free top's pre-loaded start: the operating point's feed for
+    // the soft-string check.
+    let mut start_op = op;
     let equilibrium = match initial {
-        InitialState::Given { q, v } => Ok((q, v, 0)),
+        InitialState::Given { q, v } => Ok(with_block((q, v, 0), op.v0)),
         InitialState::StaticEquilibrium => {
-            static_equilibrium(model).map(|(q, i)| (q, DVector::zeros(n), i))
+            static_equilibrium(model).map(|(q, i)| with_block((q, DVector::zeros(n), i), 0.0))
+        }
+        InitialState::Preloaded if free => {
+            super::free_top_start(model, op, effects).map(|(q, speed, i)| {
+                start_op.v0 = speed;
+                with_block((q, DVector::zeros(n), i), speed)
+            })
         }
         InitialState::Preloaded => {
             preloaded_equilibrium(model, op, effects).map(|(q, i)| (q, DVector::zeros(n), i))
@@ -780,7 +953,7 @@ pub fn simulate_into<S: Sink>(
         }
         Err(e) => {
             stats.wall_time_s = clock.elapsed().as_secs_f64();
-            let z = DVector::zeros(n);
+            let z = DVector::zeros(n + usize::from(free));
             return RunOutput {
                 series: rec.sink,
                 stats,
@@ -792,19 +965,21 @@ pub fn simulate_into<S: Sink>(
             };
         }
     };
-    let mut sys = Dynamics::new(model, op, effects);
+    let mut sys = Driven::new(model, op, effects);
     let mut nm = integrator(model, settings.newmark, q0, v0);
     let mut error = None;
     if preloaded && effects == Effects::ALL {
         let at_rest = DVector::zeros(n);
-        let obs = sys.observe(&nm.q, &at_rest, &at_rest);
-        error = check_against_soft_string(model, op, &obs).err();
+        let string_q = DVector::from_column_slice(&nm.q.as_slice()[..n]);
+        let mut check = Dynamics::new(model, start_op, effects);
+        let obs = check.observe(&string_q, &at_rest, &at_rest);
+        error = check_against_soft_string(model, start_op, &obs).err();
     }
     if error.is_none() && !nm.consistent_acceleration(&mut sys) {
         error = Some(SimulationError::NonFinite { time: 0.0 });
     }
-    let obs = sys.observe(&nm.q, &nm.v, &nm.a);
-    if !rec.push(0.0, &op, obs, &sys, &settings.probes) {
+    let obs = sys.observe(0.0, &nm.q, &nm.v, &nm.a);
+    if !rec.push(0.0, &op, obs, sys.dynamics(), &settings.probes) {
         error = Some(SimulationError::RecordingStopped { time: 0.0 });
     }
     let max_step = settings.max_step.min(resolving_step(model));
@@ -822,9 +997,9 @@ pub fn simulate_into<S: Sink>(
             break;
         }
         let nm = &stepper.nm;
-        let obs = sys.observe_step(&nm.q, &nm.v, &nm.a);
+        let obs = sys.observe_step(nm.t, &nm.q, &nm.v, &nm.a);
         let ratio = obs.max_radial_over_gap;
-        if !rec.push(nm.t, &op, obs, &sys, &settings.probes) {
+        if !rec.push(nm.t, &op, obs, sys.dynamics(), &settings.probes) {
             error = Some(SimulationError::RecordingStopped { time: nm.t });
             break;
         }
@@ -844,8 +1019,8 @@ pub fn simulate_into<S: Sink>(
         (c.steps, c.rejected_steps, c.newton_iterations);
     (stats.min_dt, stats.max_dt) = (c.min_dt, c.max_dt);
     stats.wall_time_s = clock.elapsed().as_secs_f64();
-    stats.residual_evaluations = sys.residual_evaluations;
-    stats.tangent_refreshes = sys.tangent_refreshes;
+    stats.residual_evaluations = sys.dynamics().residual_evaluations;
+    stats.tangent_refreshes = sys.dynamics().tangent_refreshes;
     stats.factorizations = nm.factorizations;
     if stats.steps == 0 {
         stats.min_dt = 0.0;

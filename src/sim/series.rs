@@ -55,6 +55,9 @@ pub struct TimeSeries {
     pub work_bit: Vec<f64>,
     /// Cumulative energy dissipated by damping, wall-contact damping and wall friction (≥ 0), J.
     pub dissipated: Vec<f64>,
+    /// Speed of the block (the top of the string) along the axis ṡ, m/s: V0 under the imposed
+    /// feed, the top law's otherwise (`[operating_point] top`).
+    pub block_speed: Vec<f64>,
 }
 
 /// What the recorder knows at an accepted step: the time, the operating point, the observation
@@ -115,13 +118,13 @@ macro_rules! channel {
 }
 
 /// Every real-valued per-step channel, in file order (the counts and probes follow them in CSV).
-pub static CHANNELS: [Channel; 17] = [
+pub static CHANNELS: [Channel; 18] = [
     channel!(t, "s", "time", |f| f.t),
     channel!(
         bit_displacement,
         "m",
-        "bit axial displacement u(L) = V0 t + elastic part",
-        |f| f.op.v0 * f.t + f.obs.bit_u_elastic
+        "bit axial displacement u(L) = s + elastic part (s the block's position, V0 t under the imposed feed)",
+        |f| f.obs.block_position + f.obs.bit_u_elastic
     ),
     channel!(
         bit_velocity,
@@ -204,6 +207,12 @@ pub static CHANNELS: [Channel; 17] = [
         "cumulative energy dissipated by damping and wall friction (≥ 0)",
         |f| f.dissipated
     ),
+    channel!(
+        block_speed,
+        "m/s",
+        "speed of the block (the top of the string) ṡ: V0 under the imposed feed",
+        |f| f.obs.block_speed
+    ),
 ];
 
 /// Positions of the channels in [`CHANNELS`] (and in [`Row::values`]) that metrics and the
@@ -226,6 +235,7 @@ pub mod at {
     pub const WORK_TOP: usize = 14;
     pub const WORK_BIT: usize = 15;
     pub const DISSIPATED: usize = 16;
+    pub const BLOCK_SPEED: usize = 17;
 }
 
 /// One recorded state: every real channel of [`CHANNELS`] in their order (SI units, `values[0]`
@@ -376,6 +386,7 @@ mod tests {
             (at::WORK_TOP, "work_top"),
             (at::WORK_BIT, "work_bit"),
             (at::DISSIPATED, "dissipated"),
+            (at::BLOCK_SPEED, "block_speed"),
         ] {
             assert_eq!(CHANNELS[k].name, name);
         }

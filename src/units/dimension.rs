@@ -163,6 +163,8 @@ impl Dimension {
                 ("kNm", 1e3),
                 ("ft·lbf", FT_LBF_NM),
                 ("ft.lbf", FT_LBF_NM),
+                ("kft·lbf", 1e3 * FT_LBF_NM),
+                ("kft.lbf", 1e3 * FT_LBF_NM),
             ],
             Dimension::Impulse => &[
                 ("N·s", 1.0),

@@ -1,0 +1,167 @@
+//! The driller's top: how the top drive moves the string along its axis (MODEL.md §4, §11.8).
+//!
+//! The rotation is always imposed (θx(0, t) = Ω t). Along the axis the top is at the block's
+//! position s(t): u(0, t) = s(t), and the whole string moves with the rigid translation s on
+//! top of its elastic motion (Q = e_u s + e_θ Ω t + Φ q, MODEL.md §4's lifting with s in place of
+//! V0 t). Three laws give s:
+//!
+//! - [`TopDrive::Feed`], the paper's imposed feed s = V0 t: the mean rate of penetration is V0
+//!   whatever the rock does.
+//! - [`TopDrive::HookLoad`], a constant top force: the hook holds the string with a constant load,
+//!   so the force the top drive pushes on the string, F_top, is the set-point `wob` (Ritto, Soize
+//!   & Sampaio, Int. J. Non-Linear Mech. 44, 2009 and 2010, optimise Ω and this force). s is a
+//!   degree of freedom of its own; the rock and the string decide how fast it advances.
+//! - [`TopDrive::Autodriller`], a driller's autodriller in rate-of-penetration mode with a WOB and
+//!   a torque limit: the block accelerates towards the set-point V0 with the time constant τ, and
+//!   decelerates while the surface WOB or the surface torque is above its limit, at a rate
+//!   proportional to the relative excess (integral action on the excess, so that a limit that
+//!   binds is held exactly in a steady state):
+//!
+//!   s̈ = min( (V0 − ṡ)/τ,  −V0 (W_s − W_lim)/(W_lim τ),  −V0 (T_s − T_lim)/(T_lim τ) ),
+//!
+//!   the torque term only when a torque limit is given. The surface WOB W_s is the off-bottom hook
+//!   load minus the hook load, the top force F_top less the top force off bottom: a horizontal
+//!   string rotating off bottom with the block at rest has no axial load at the top (no axial
+//!   gravity; its wall friction acts on the spin only), so W_s = F_top. T_s is the top-drive
+//!   torque. This is a control law of our own, stated so that it can be checked: real
+//!   autodrillers run PI loops on the same errors (Cayeux et al., SPE 178841, 2016, review them);
+//!   what matters to the optimum is that the limit holds on average and that the block answers in
+//!   about τ.
+//!
+//! Sign conventions: F_top > 0 pushes the string towards the bit (compression at the top, the
+//! surface WOB), T_top > 0 turns it in the sense of Ω. Units SI.
+
+use crate::units::Range;
+
+/// How the top drive moves the string along its axis (`[operating_point] top`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(tag = "top", rename_all = "snake_case")]
+pub enum TopDrive {
+    /// u(0, t) = V0 t (the paper's).
+    Feed,
+    /// F_top = `wob`, constant, N.
+    HookLoad {
+        /// The top force, the surface WOB set-point, N (> 0 pushes towards the bit).
+        wob: f64,
+    },
+    /// The block at V0 unless the surface WOB or torque exceeds its limit (module doc).
+    Autodriller(Autodriller),
+}
+
+/// The autodriller's limits and time constant (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Autodriller {
+    /// W_lim, N.
+    pub wob_limit: f64,
+    /// T_lim, N·m; `None` for no torque limit.
+    pub torque_limit: Option<f64>,
+    /// τ, s.
+    pub time_constant: f64,
+}
+
+impl TopDrive {
+    /// Whether the block's position is a degree of freedom (every top but the imposed feed).
+    pub fn is_free(&self) -> bool {
+        !matches!(self, TopDrive::Feed)
+    }
+
+    /// Whether the top is the paper's imposed feed (`serde(skip_serializing_if)`).
+    pub fn is_feed(&self) -> bool {
+        matches!(self, TopDrive::Feed)
+    }
+
+    /// The problem file's name of the law.
+    pub fn name(&self) -> &'static str {
+        match self {
+            TopDrive::Feed => "feed",
+            TopDrive::HookLoad { .. } => "hook_load",
+            TopDrive::Autodriller(_) => "autodriller",
+        }
+    }
+}
+
+/// The names `[operating_point] top` takes.
+pub const TOP_DRIVES: [&str; 3] = ["feed", "hook_load", "autodriller"];
+
+/// Admissible range of the surface WOB of a hook-load top and of the autodriller's WOB limit, N:
+/// from 100 N (a laboratory string) to 2 MN, above any bit's rating (a 17½ in bit takes about
+/// 400 kN).
+pub const WOB_RANGE: Range = Range::closed(100.0, 2e6, "100 N to 2 MN, above any bit's rating");
+
+/// Admissible range of the autodriller's torque limit, N·m: 10 N·m to 500 kN·m, above any top
+/// drive's rating (about 150 kN·m).
+pub const TORQUE_RANGE: Range = Range::closed(
+    10.0,
+    5e5,
+    "10 N·m to 500 kN·m, above any top drive's rating",
+);
+
+/// Admissible range of the autodriller's time constant, s: 10 ms (faster than any block can
+/// follow) to 10 min.
+pub const TIME_CONSTANT_RANGE: Range =
+    Range::closed(0.01, 600.0, "10 ms to 10 min: how fast the block answers");
+
+/// The autodriller's time constant when a file names none, s: a block that answers in a second,
+/// as the drawworks of a modern rig do.
+pub const DEFAULT_TIME_CONSTANT: f64 = 1.0;
+
+/// The block's acceleration s̈ the autodriller commands (module doc) at block speed `speed`,
+/// surface WOB `wob` and surface torque `torque`, with its derivatives
+/// (∂/∂speed, ∂/∂wob, ∂/∂torque), for set-point `v0` (m/s).
+pub fn autodriller_acceleration(
+    a: &Autodriller,
+    v0: f64,
+    speed: f64,
+    wob: f64,
+    torque: f64,
+) -> (f64, [f64; 3]) {
+    let tau = a.time_constant;
+    let mut best = ((v0 - speed) / tau, [-1.0 / tau, 0.0, 0.0]);
+    let gain_w = v0 / (a.wob_limit * tau);
+    let by_wob = -gain_w * (wob - a.wob_limit);
+    if by_wob < best.0 {
+        best = (by_wob, [0.0, -gain_w, 0.0]);
+    }
+    if let Some(limit) = a.torque_limit {
+        let gain_t = v0 / (limit * tau);
+        let by_torque = -gain_t * (torque - limit);
+        if by_torque < best.0 {
+            best = (by_torque, [0.0, 0.0, -gain_t]);
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_autodriller_follows_the_most_restrictive_of_its_three_laws() {
+        let a = Autodriller {
+            wob_limit: 50e3,
+            torque_limit: Some(10e3),
+            time_constant: 2.0,
+        };
+        let v0 = 0.01;
+        // Below both limits: towards V0 at 1/τ.
+        let (acc, d) = autodriller_acceleration(&a, v0, 0.004, 20e3, 5e3);
+        assert!((acc - 0.003).abs() < 1e-15 && d == [-0.5, 0.0, 0.0]);
+        // WOB 10 % over its limit: decelerates at 0.1 V0/τ, whatever the speed.
+        let (acc, d) = autodriller_acceleration(&a, v0, 0.004, 55e3, 5e3);
+        assert!((acc + 0.1 * v0 / 2.0).abs() < 1e-15, "{acc}");
+        assert!((d[1] + v0 / (50e3 * 2.0)).abs() < 1e-18);
+        // Torque 20 % over: the torque law is the more restrictive one.
+        let (acc, d) = autodriller_acceleration(&a, v0, 0.004, 55e3, 12e3);
+        assert!((acc + 0.2 * v0 / 2.0).abs() < 1e-15 && d[2] < 0.0);
+        // A binding limit holds in the steady state: zero acceleration exactly at the limit.
+        let (acc, _) = autodriller_acceleration(&a, v0, 0.004, 50e3, 5e3);
+        assert_eq!(acc, 0.0);
+        // No torque limit: a huge torque does nothing.
+        let free = Autodriller {
+            torque_limit: None,
+            ..a
+        };
+        assert!(autodriller_acceleration(&free, v0, 0.004, 20e3, 1e9).0 > 0.0);
+    }
+}

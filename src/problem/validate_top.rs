@@ -1,0 +1,129 @@
+//! `[operating_point] top` and its keys: the driller's top (MODEL.md §11.8, [`crate::model::top`]).
+
+use super::ProblemError;
+use super::schema::{OperatingPointSection, RawQuantity};
+use super::validate::Checker;
+use crate::model::{
+    Autodriller, DEFAULT_TIME_CONSTANT, ParameterSpec, TIME_CONSTANT_RANGE, TOP_DRIVES,
+    TORQUE_RANGE, TopDrive, WOB_RANGE,
+};
+use crate::units::{Dimension, Range};
+
+fn spec(key: &'static str, dimension: Dimension, range: Range, doc: &'static str) -> ParameterSpec {
+    ParameterSpec {
+        key,
+        dimension,
+        range,
+        default: None,
+        example: 0.0,
+        doc,
+    }
+}
+
+/// The top law of `[operating_point]`: `"feed"` when `top` is absent. Keys of another law than
+/// the one chosen are refused (a `wob_limit` without the autodriller would be silently unused).
+pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, ProblemError> {
+    let key = "operating_point.top";
+    let name = match &o.top {
+        None => "feed".to_string(),
+        Some(RawQuantity::Text(t)) => t.trim().to_string(),
+        Some(RawQuantity::Number(x)) => {
+            return Err(c.fail(
+                key,
+                format!(
+                    "must be a string, one of {}, got the number {x}",
+                    quoted(&TOP_DRIVES)
+                ),
+            ));
+        }
+    };
+    let keys: [(&str, &Option<RawQuantity>, &[&str]); 4] = [
+        ("wob", &o.wob, &["hook_load"]),
+        ("wob_limit", &o.wob_limit, &["autodriller"]),
+        ("torque_limit", &o.torque_limit, &["autodriller"]),
+        (
+            "autodriller_time_constant",
+            &o.autodriller_time_constant,
+            &["autodriller"],
+        ),
+    ];
+    for (k, value, laws) in keys {
+        if value.is_some() && !laws.contains(&name.as_str()) {
+            c.record(
+                &format!("operating_point.{k}"),
+                format!(
+                    "belongs to top = {}, not to top = \"{name}\": remove it or choose that top",
+                    quoted(laws)
+                ),
+            );
+        }
+    }
+    let value = |k: &'static str, raw: &RawQuantity, dim, range, doc| {
+        c.spec_value(&spec(k, dim, range, doc), raw)
+    };
+    match name.as_str() {
+        "feed" => Ok(TopDrive::Feed),
+        "hook_load" => Err(c.fail(
+            key,
+            "\"hook_load\" (a constant top force, design variables Ω and WOB) is built in the \
+             simulator but not yet in problem files and the study commands; use \"autodriller\" \
+             with wob_limit, which holds the surface WOB at its limit whenever the rock cannot \
+             take the feed"
+                .into(),
+        )),
+        "autodriller" => {
+            let wob_limit = match &o.wob_limit {
+                Some(raw) => value(
+                    "operating_point.wob_limit",
+                    raw,
+                    Dimension::Force,
+                    WOB_RANGE,
+                    "the autodriller's surface WOB limit",
+                )?,
+                None => c.record(
+                    "operating_point.wob_limit",
+                    "is required with top = \"autodriller\": the surface WOB (e.g. \"80 kN\") \
+                     above which the block slows"
+                        .into(),
+                ),
+            };
+            let torque_limit = match &o.torque_limit {
+                Some(raw) => Some(value(
+                    "operating_point.torque_limit",
+                    raw,
+                    Dimension::Torque,
+                    TORQUE_RANGE,
+                    "the autodriller's surface torque limit",
+                )?),
+                None => None,
+            };
+            let time_constant = match &o.autodriller_time_constant {
+                Some(raw) => value(
+                    "operating_point.autodriller_time_constant",
+                    raw,
+                    Dimension::Time,
+                    TIME_CONSTANT_RANGE,
+                    "the autodriller's time constant τ",
+                )?,
+                None => DEFAULT_TIME_CONSTANT,
+            };
+            Ok(TopDrive::Autodriller(Autodriller {
+                wob_limit,
+                torque_limit,
+                time_constant,
+            }))
+        }
+        other => Err(c.fail(
+            key,
+            format!("must be one of {}, got \"{other}\"", quoted(&TOP_DRIVES)),
+        )),
+    }
+}
+
+fn quoted(names: &[&str]) -> String {
+    names
+        .iter()
+        .map(|n| format!("\"{n}\""))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
