@@ -3,7 +3,7 @@
 //! and the paper's Figures 3–5.
 
 use crate::metrics::{self, MetricsConfig};
-use crate::model::OperatingPoint;
+use crate::model::{OperatingPoint, TopDrive};
 use crate::problem::{Dimension, Problem};
 use crate::report::{self, ProblemRecord, RunStatus, SummaryJson};
 use crate::sim;
@@ -224,7 +224,8 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         duration,
     )?;
     let settling = problem.simulation.settling_time.min(0.5 * duration);
-    let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling);
+    let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling)
+        .with_top(problem.model.top);
     // Every accepted step goes to the metrics; the written history (streamed to disk, and kept
     // in memory for the plots) is sampled at `interval`.
     let probes = &problem.simulation.probes;
@@ -325,7 +326,12 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         report::write_envelope_csv(&out.join("stress_envelope.csv"), envelope)?;
         report::plot_stress_envelope(envelope, &op, &out.join("stress_envelope.svg"))?;
     }
-    print_summary(&summary, &out, problem.model.stiffness_damping);
+    print_summary(
+        &summary,
+        &out,
+        problem.model.stiffness_damping,
+        problem.model.top,
+    );
     if let Some(e) = &output.error {
         anyhow::bail!(
             "simulation stopped early: {e} (results up to then written to {})",
@@ -349,7 +355,7 @@ const CONVERGED_STIFFNESS_DAMPING: f64 = 1e-5;
 /// `stiffness_damping`: the model's β, s; with none (or one below the evidence of
 /// [`CONVERGED_STIFFNESS_DAMPING`], to round-off: `"10 us"` reads as 9.999999999999999e-6 s) a
 /// bit_damping_ratio above 1 draws a warning.
-fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64) {
+fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDrive) {
     let st = s.solver;
     // A run that stopped early did not simulate its duration: say so (the error follows).
     let done = match s.status {
@@ -405,6 +411,22 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64) {
             m.mean_top_torque_nm / 1e3,
             m.mean_top_force_n / 1e3
         );
+        if let TopDrive::Autodriller(ad) = top {
+            let torque = match ad.torque_limit {
+                Some(l) => format!(
+                    "{:.1} % at the torque limit ({:.2} kN·m)",
+                    100.0 * m.torque_limit_fraction,
+                    l / 1e3
+                ),
+                None => "no torque limit".into(),
+            };
+            println!(
+                "  autodriller: ROP / V0 = {:.3} | {:.1} % of the time at the WOB limit ({:.1} kN) | {torque}",
+                m.rop_set_point_ratio,
+                100.0 * m.wob_limit_fraction,
+                ad.wob_limit / 1e3
+            );
+        }
         println!("  {}", integrity_line(m));
         if let Some(w) = yield_warning(m) {
             eprintln!("{w}");

@@ -277,6 +277,29 @@ pub const METRICS: &[MetricSpec] = &[
     })
     .shown("mean top-drive force", "kN", 1e-3)
     .batch_interval(),
+    MetricSpec::new(
+        "rop_set_point_ratio",
+        Dimensionless,
+        WhenUsed(Mean, 0.01),
+        |m| m.rop_set_point_ratio,
+    )
+    .shown("mean ROP / V0", "", 1.0)
+    .direction(Better)
+    .derives_from(&["mean_rop_m_per_h"]),
+    MetricSpec::new(
+        "wob_limit_fraction",
+        Dimensionless,
+        WhenUsed(Mean, 0.05),
+        |m| m.wob_limit_fraction,
+    )
+    .shown("time at the WOB limit", "%", 100.0),
+    MetricSpec::new(
+        "torque_limit_fraction",
+        Dimensionless,
+        WhenUsed(Mean, 0.05),
+        |m| m.torque_limit_fraction,
+    )
+    .shown("time at the torque limit", "%", 100.0),
 ];
 
 /// The row of the metric `key` (a key of `summary.json`).

@@ -68,6 +68,9 @@ pub struct MetricsConfig {
     /// Averaging time τ of the bit speed that the stick-slip statistics read, s; ≥ 0 (0: the raw
     /// speed). Default [`MetricsConfig::DEFAULT_SPEED_AVERAGE`] = 10 ms. See [`Metrics`].
     pub speed_average: f64,
+    /// The top law of the run ([`crate::model::TopDrive`]; the imposed feed by default): the
+    /// autodriller's limit shares are read from it.
+    pub top: crate::model::TopDrive,
 }
 
 impl MetricsConfig {
@@ -87,7 +90,13 @@ impl MetricsConfig {
             settling_time,
             stick_threshold: Self::DEFAULT_STICK_THRESHOLD,
             speed_average: Self::DEFAULT_SPEED_AVERAGE,
+            top: crate::model::TopDrive::Feed,
         }
+    }
+
+    /// This configuration for a run under the top law `top`.
+    pub fn with_top(self, top: crate::model::TopDrive) -> Self {
+        Self { top, ..self }
     }
 
     /// Check the ranges documented on each field.
@@ -296,6 +305,16 @@ pub struct Metrics {
     /// Time-weighted mean axial force the top drive applies to feed the string at V0, N
     /// (positive pushing): the weight on bit plus the axial drag along the string.
     pub mean_top_force_n: f64,
+    /// Mean ROP over the feed set-point V0, dimensionless (MODEL.md §11.8): 1 under the imposed
+    /// feed (to the settling of the window's ends); below 1 under an autodriller whenever a limit
+    /// or the dynamics cost footage. 0 at V0 = 0 (no set-point: off-bottom rotation).
+    pub rop_set_point_ratio: f64,
+    /// Share of the window during which the autodriller's WOB limit commanded the block (its
+    /// law [`crate::model::autodriller_acceleration`] took the WOB branch), dimensionless in
+    /// [0, 1]; 0 under any other top.
+    pub wob_limit_fraction: f64,
+    /// The same for the autodriller's torque limit.
+    pub torque_limit_fraction: f64,
 }
 
 impl Metrics {
@@ -339,6 +358,9 @@ impl Metrics {
             bit_damping_ratio: n,
             mean_top_torque_nm: n,
             mean_top_force_n: n,
+            rop_set_point_ratio: n,
+            wob_limit_fraction: n,
+            torque_limit_fraction: n,
         }
     }
 

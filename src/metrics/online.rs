@@ -56,6 +56,10 @@ const AXIAL: usize = 5;
 const TORSIONAL: usize = 6;
 const TOP_TORQUE: usize = 7;
 const TOP_FORCE: usize = 8;
+const WOB_LIMIT: usize = 9;
+const TORQUE_LIMIT: usize = 10;
+/// Number of integrands.
+const SUMS: usize = 11;
 
 /// The metrics of one sub-series (the whole run, or one batch with the τ before it): the
 /// samples from the first at or after `from` to the last at or before `until`, its analysis
@@ -74,8 +78,8 @@ struct Window {
     samples: usize,
     first: Option<Ends>,
     last: Option<Ends>,
-    prev: Option<(f64, [f64; 9])>,
-    sums: [f64; 9],
+    prev: Option<(f64, [f64; SUMS])>,
+    sums: [f64; SUMS],
     spin: (f64, f64),
     raw: (f64, f64),
     wall_force_max: f64,
@@ -98,7 +102,7 @@ impl Window {
             first: None,
             last: None,
             prev: None,
-            sums: [-0.0; 9],
+            sums: [-0.0; SUMS],
             spin: (f64::NEG_INFINITY, f64::INFINITY),
             raw: (f64::NEG_INFINITY, f64::INFINITY),
             wall_force_max: f64::NEG_INFINITY,
@@ -140,6 +144,21 @@ impl Window {
             raw,
             config.speed_average,
         );
+        // Which of the autodriller's laws commands the block (1: the WOB limit, 2: the torque
+        // limit), from the recorded block speed and top loads.
+        let limit = match config.top {
+            crate::model::TopDrive::Autodriller(ad) => {
+                let (_, slope) = crate::model::autodriller_acceleration(
+                    &ad,
+                    config.v0,
+                    v[at::BLOCK_SPEED],
+                    v[at::TOP_FORCE],
+                    v[at::TOP_TORQUE],
+                );
+                slope.iter().position(|&d| d != 0.0).filter(|&k| k > 0)
+            }
+            _ => None,
+        };
         self.samples += 1;
         let ends = Ends::of(row);
         self.first.get_or_insert(ends);
@@ -156,6 +175,8 @@ impl Window {
             v[at::TORQUE_ON_BIT] * raw,
             v[at::TOP_TORQUE],
             v[at::TOP_FORCE],
+            indicator(limit == Some(1)),
+            indicator(limit == Some(2)),
         ];
         if let Some((t_prev, y_prev)) = &self.prev {
             let h = t - t_prev;
@@ -245,6 +266,13 @@ impl Window {
                 .map_or(f64::NAN, |a| energy_balance_residual(&a, &last)),
             mean_top_torque_nm: self.sums[TOP_TORQUE] / window,
             mean_top_force_n: self.sums[TOP_FORCE] / window,
+            rop_set_point_ratio: if config.v0 > 0.0 {
+                mean_rop / config.v0
+            } else {
+                0.0
+            },
+            wob_limit_fraction: self.sums[WOB_LIMIT] / window,
+            torque_limit_fraction: self.sums[TORQUE_LIMIT] / window,
             ..Metrics::unset()
         })
     }

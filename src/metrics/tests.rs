@@ -99,6 +99,7 @@ fn steady(t: &[f64]) -> TimeSeries {
         work_top: c(0.0),
         work_bit: c(0.0),
         dissipated: c(0.0),
+        block_speed: c(V0),
     }
 }
 

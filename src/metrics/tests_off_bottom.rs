@@ -41,6 +41,7 @@ fn off_bottom(t: &[f64]) -> TimeSeries {
         work_top: t.iter().map(|&t| 200.0 * OMEGA * t).collect(),
         work_bit: c(0.0),
         dissipated: t.iter().map(|&t| 200.0 * OMEGA * t).collect(),
+        block_speed: c(0.0),
     }
 }
 

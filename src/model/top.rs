@@ -145,8 +145,12 @@ mod tests {
         };
         let v0 = 0.01;
         // Below both limits: towards V0 at 1/τ.
-        let (acc, d) = autodriller_acceleration(&a, v0, 0.004, 20e3, 5e3);
-        assert!((acc - 0.003).abs() < 1e-15 && d == [-0.5, 0.0, 0.0]);
+        let (acc, d) = autodriller_acceleration(&a, v0, 0.009, 20e3, 5e3);
+        assert!((acc - 0.0005).abs() < 1e-15 && d == [-0.5, 0.0, 0.0]);
+        // Far below V0 but near the WOB limit: the margin to the limit caps the acceleration
+        // (the integral law: V0 (W_lim − W)/(W_lim τ)), so the block does not overshoot it.
+        let (acc, d) = autodriller_acceleration(&a, v0, 0.0, 45e3, 5e3);
+        assert!((acc - 0.1 * v0 / 2.0).abs() < 1e-15 && d[1] < 0.0, "{acc}");
         // WOB 10 % over its limit: decelerates at 0.1 V0/τ, whatever the speed.
         let (acc, d) = autodriller_acceleration(&a, v0, 0.004, 55e3, 5e3);
         assert!((acc + 0.1 * v0 / 2.0).abs() < 1e-15, "{acc}");

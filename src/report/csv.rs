@@ -247,6 +247,7 @@ mod tests {
             work_top: v(7.7, 8.8, 9.9),
             work_bit: v(-1.0, -2.0, -3.0),
             dissipated: v(0.01, 0.02, 0.03),
+            block_speed: v(0.001, 0.002, -0.0),
         }
     }
 
@@ -279,6 +280,7 @@ mod tests {
                 "work_top_J",
                 "work_bit_J",
                 "dissipated_J",
+                "block_speed_m_s",
                 "radial_x20m_m",
                 "radial_x12.5m_m",
             ]
@@ -399,7 +401,7 @@ mod tests {
         let csv = timeseries_csv(&TimeSeries::default());
         assert_eq!(csv.lines().count(), 1);
         assert!(csv.starts_with("t_s,bit_displacement_m,"));
-        assert!(csv.ends_with("dissipated_J\n"));
+        assert!(csv.ends_with("block_speed_m_s\n"));
     }
 
     #[test]

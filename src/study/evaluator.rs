@@ -406,7 +406,8 @@ impl<'a> RobustEvaluator<'a> {
         }
         let sim = &self.problem.simulation;
         let settling = sim.settling_time.min(0.5 * sim.duration);
-        let config = MetricsConfig::new(op.omega, op.v0, model.string.borehole_radius, settling);
+        let config = MetricsConfig::new(op.omega, op.v0, model.string.borehole_radius, settling)
+            .with_top(model.string.top);
         match metrics::of_run(&out, &config, model.string.pipe.yield_strength) {
             Ok(m) => SampleOutcome::Metrics(metric_map(
                 &m.with_critical_speed_margin(self.critical_speed_margin(index, op.omega))

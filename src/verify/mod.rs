@@ -431,7 +431,8 @@ fn run_variant(
         op.v0,
         problem.model.borehole_radius,
         settings.settling,
-    );
+    )
+    .with_top(problem.model.top);
     let mut metrics =
         metrics::of_run(&out, &config, problem.model.pipe.yield_strength).map_err(|source| {
             VerifyError::Metrics {
