@@ -753,6 +753,8 @@ fn bordered(
 }
 
 /// The system a run integrates: the string under the imposed feed, or with the block free.
+// One per run, on the stack of the run: the variants' sizes do not matter.
+#[allow(clippy::large_enum_variant)]
 enum Driven<'m> {
     Feed(Dynamics<'m>),
     Free(FreeTop<'m>),
