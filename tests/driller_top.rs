@@ -311,7 +311,7 @@ fn the_top_keys_are_refused_where_they_mean_nothing() {
     };
     let v0 = "v0 = \"5 m/h\"                    # 1/720 m/s";
     let message =
-        |r: Result<Problem, drillopt::problem::ProblemError>| r.err().expect("refused").to_string();
+        |r: Result<Problem, drillopt::problem::ProblemError>| r.expect_err("refused").to_string();
     let m = message(edit(v0, "v0 = \"5 m/h\"\nwob_limit = \"50 kN\""));
     assert!(
         m.contains("operating_point.wob_limit") && m.contains("autodriller"),
