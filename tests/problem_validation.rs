@@ -402,8 +402,8 @@ fn an_unknown_nested_key_is_refused() {
         &["unknown field", "outer_radius"],
     );
     refused(
-        &insert("operating_point", "wob", "\"10 kN\""),
-        "operating_point.wob",
+        &insert("operating_point", "rpm", "\"60 rpm\""),
+        "operating_point.rpm",
         &["unknown field", "omega", "v0"],
     );
     refused(
