@@ -20,7 +20,7 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 11] = [
+const SHIPPED: [(&str, &str); 12] = [
     (
         "problems/seed_mc2014.toml",
         include_str!("../problems/seed_mc2014.toml"),
@@ -40,6 +40,10 @@ const SHIPPED: [(&str, &str); 11] = [
     (
         "problems/seed_detournay.toml",
         include_str!("../problems/seed_detournay.toml"),
+    ),
+    (
+        "problems/seed_autodriller.toml",
+        include_str!("../problems/seed_autodriller.toml"),
     ),
     (
         "problems/long_collars.toml",
