@@ -335,6 +335,17 @@ fn the_top_keys_are_refused_where_they_mean_nothing() {
         m.contains("operating_point.top") && m.contains("\"autodriller\""),
         "{m}"
     );
+    // A misspelt top beside its keys: the top's refusal is the one shown, and it offers only
+    // the tops a file can choose.
+    let m = message(edit(
+        v0,
+        "v0 = \"5 m/h\"\ntop = \"autodriler\"\nwob_limit = \"60 kN\"",
+    ));
+    assert!(
+        m.contains("operating_point.top") && m.contains("\"autodriler\""),
+        "{m}"
+    );
+    assert!(!m.contains("hook_load"), "{m}");
     let m = message(edit(
         v0,
         "v0 = \"5 m/h\"\ntop = \"hook_load\"\nwob = \"50 kN\"",

@@ -135,6 +135,15 @@ fn uncertain(
         if params.iter().any(|q| q.key == key) {
             return Err(c.fail(&at("key"), format!("{:?} is declared twice", p.key)));
         }
+        if key.spec().range.integer {
+            return Err(c.fail(
+                &at("key"),
+                format!(
+                    "{:?} is a count (whole numbers only): it cannot be drawn from a continuous law",
+                    p.key
+                ),
+            ));
+        }
         let dim = key.spec().dimension;
         let value = |name: &str, v: &Option<RawQuantity>| -> Result<f64, ProblemError> {
             match v {

@@ -4,10 +4,13 @@ use super::ProblemError;
 use super::schema::{OperatingPointSection, RawQuantity};
 use super::validate::Checker;
 use crate::model::{
-    Autodriller, DEFAULT_TIME_CONSTANT, ParameterSpec, TIME_CONSTANT_RANGE, TOP_DRIVES,
-    TORQUE_RANGE, TopDrive, WOB_RANGE,
+    Autodriller, DEFAULT_TIME_CONSTANT, ParameterSpec, TIME_CONSTANT_RANGE, TORQUE_RANGE,
+    TopDrive, WOB_RANGE,
 };
 use crate::units::{Dimension, Range};
+
+/// The tops a problem file can choose (`"hook_load"` is built in the simulator only).
+const FILE_TOPS: [&str; 2] = ["feed", "autodriller"];
 
 fn spec(key: &'static str, dimension: Dimension, range: Range, doc: &'static str) -> ParameterSpec {
     ParameterSpec {
@@ -28,17 +31,44 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
         None => "feed".to_string(),
         Some(RawQuantity::Text(t)) => t.trim().to_string(),
         Some(RawQuantity::Number(x)) => {
-            return Err(c.fail(
+            // Recorded, not returned: the other refusals of the file are reported with it.
+            c.record(
                 key,
                 format!(
                     "must be a string, one of {}, got the number {x}",
-                    quoted(&TOP_DRIVES)
+                    quoted(&FILE_TOPS)
                 ),
-            ));
+            );
+            return Ok(TopDrive::Feed);
         }
     };
-    let keys: [(&str, &Option<RawQuantity>, &[&str]); 4] = [
-        ("wob", &o.wob, &["hook_load"]),
+    if name == "hook_load" {
+        c.record(
+            key,
+            "\"hook_load\" (a constant top force, design variables Ω and WOB) is built in the \
+             simulator but not yet in problem files and the study commands; use \"autodriller\" \
+             with wob_limit, which holds the surface WOB at its limit whenever the rock cannot \
+             take the feed"
+                .into(),
+        );
+        return Ok(TopDrive::Feed);
+    }
+    if !FILE_TOPS.contains(&name.as_str()) {
+        c.record(
+            key,
+            format!("must be one of {}, got \"{name}\"", quoted(&FILE_TOPS)),
+        );
+        return Ok(TopDrive::Feed);
+    }
+    if o.wob.is_some() {
+        c.record(
+            "operating_point.wob",
+            "is the WOB set-point of top = \"hook_load\", which problem files cannot choose yet: \
+             remove it (the autodriller's limit is wob_limit)"
+                .into(),
+        );
+    }
+    let keys: [(&str, &Option<RawQuantity>, &[&str]); 3] = [
         ("wob_limit", &o.wob_limit, &["autodriller"]),
         ("torque_limit", &o.torque_limit, &["autodriller"]),
         (
@@ -63,14 +93,6 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
     };
     match name.as_str() {
         "feed" => Ok(TopDrive::Feed),
-        "hook_load" => Err(c.fail(
-            key,
-            "\"hook_load\" (a constant top force, design variables Ω and WOB) is built in the \
-             simulator but not yet in problem files and the study commands; use \"autodriller\" \
-             with wob_limit, which holds the surface WOB at its limit whenever the rock cannot \
-             take the feed"
-                .into(),
-        )),
         "autodriller" => {
             let wob_limit = match &o.wob_limit {
                 Some(raw) => value(
@@ -113,10 +135,7 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
                 time_constant,
             }))
         }
-        other => Err(c.fail(
-            key,
-            format!("must be one of {}, got \"{other}\"", quoted(&TOP_DRIVES)),
-        )),
+        _ => unreachable!("checked against FILE_TOPS above"),
     }
 }
 

@@ -10,7 +10,7 @@
 
 use super::contact::{FRICTION_DOFS, NodeMotion, WallGeometry};
 use super::contact_tangent::ContactTangent;
-use super::{BitLoad, NodeContact, wall_contact};
+use super::{BitLoad, Cut, NodeContact, RockSurface, wall_contact};
 use crate::fem::{Dof, ElementVector};
 use crate::integrate::{ImplicitSystem, JacobianCoefficients, copy_vector};
 use crate::model::OperatingPoint;
@@ -70,6 +70,9 @@ pub struct Observation {
     pub block_position: f64,
     /// The block's speed ṡ, m/s.
     pub block_speed: f64,
+    /// The depth of cut per revolution a depth-of-cut bit law read off the rock surface, m
+    /// (≤ 0: the bit above the rock); NaN for a rate law.
+    pub depth_of_cut: f64,
 }
 
 /// The drillstring system at one operating point, with its work buffers.
@@ -84,6 +87,17 @@ pub struct Dynamics<'m> {
     attempt_rigid_velocity: f64,
     /// The rigid axial velocity of the `evaluated` state.
     evaluated_rigid_velocity: f64,
+    /// The time of the state being evaluated (set by each residual), s.
+    time: f64,
+    /// The block's position s when it is an unknown (set by [`super::FreeTop`]); `None`: the
+    /// imposed feed, s = V0 t.
+    block: Option<f64>,
+    /// The rigid motion [s, Ω t] of the `evaluated` state.
+    evaluated_rigid_position: [f64; 2],
+    /// The rock surface of a depth-of-cut bit law (installed after the start: the start is
+    /// solved on the law's quasi-static form), and the cut read at the last residual.
+    surface: Option<RockSurface>,
+    cut: Cut,
     gap: f64,
     wall: WallGeometry,
     q_full: DVector<f64>,
@@ -130,6 +144,11 @@ impl<'m> Dynamics<'m> {
             rigid_axial: [op.v0, 0.0],
             attempt_rigid_velocity: op.v0,
             evaluated_rigid_velocity: op.v0,
+            time: 0.0,
+            block: None,
+            evaluated_rigid_position: [f64::NAN; 2],
+            surface: None,
+            cut: Cut::default(),
             gap: model.string.gap(),
             wall: WallGeometry::of(&model.string),
             q_full: DVector::zeros(ndof),
@@ -169,10 +188,12 @@ impl<'m> Dynamics<'m> {
     fn evaluate(&mut self, q: &DVector<f64>, v: &DVector<f64>, a: &DVector<f64>) {
         let [eq, ev, ea] = &self.evaluated;
         let same = |x: &DVector<f64>, y: &DVector<f64>| x.as_slice() == y.as_slice();
+        let position = self.rigid_position();
         if same(eq, q)
             && same(ev, v)
             && same(ea, a)
             && self.evaluated_rigid_velocity == self.rigid_axial[0]
+            && (self.surface.is_none() || self.evaluated_rigid_position == position)
         {
             return;
         }
@@ -206,6 +227,73 @@ impl<'m> Dynamics<'m> {
             copy_vector(e, x);
         }
         self.evaluated_rigid_velocity = self.rigid_axial[0];
+        self.evaluated_rigid_position = position;
+    }
+
+    /// The rigid motion [s (m), Ω t (rad)] at the current time.
+    fn rigid_position(&self) -> [f64; 2] {
+        [
+            self.block.unwrap_or(self.op.v0 * self.time),
+            self.op.omega * self.time,
+        ]
+    }
+
+    /// The bit's elastic axial displacement and rotation (Φq at the bit node), m and rad.
+    fn bit_elastic(&self, q: &[f64]) -> [f64; 2] {
+        let node = self.model.elements();
+        [Dof::U.at(node), Dof::ThetaX.at(node)].map(|dof| {
+            let (modes, values) = self.model.sparse.dof(dof);
+            modes.iter().zip(values).map(|(&j, &x)| x * q[j]).sum()
+        })
+    }
+
+    /// The depth of cut read at the last residual (zero for a rate law).
+    pub fn cut(&self) -> Cut {
+        self.cut
+    }
+
+    /// The time of the states that follow, s (a residual sets it; [`Self::observe`] needs it
+    /// for a depth-of-cut law, whose rock surface is fixed in space).
+    pub fn set_time(&mut self, t: f64) {
+        self.time = t;
+    }
+
+    /// The block's position s (m) when the top is free ([`super::FreeTop`]).
+    pub fn set_block_position(&mut self, s: f64) {
+        self.block = Some(s);
+    }
+
+    /// For a depth-of-cut bit law: the helical bottom hole of steady drilling under the bit of
+    /// the modal state `q` at time `t`, cut at `axial_speed` (m/s) and Ω (the start's steady
+    /// state, so that its first depth of cut is that of the law's quasi-static form). Nothing
+    /// for a rate law.
+    pub fn start_surface(&mut self, q: &[f64], t: f64, axial_speed: f64) {
+        let bit = &self.model.string.bit;
+        let Some(blades) = bit.blades() else {
+            return;
+        };
+        self.time = t;
+        let [s, angle] = self.rigid_position();
+        let [u, theta] = self.bit_elastic(q);
+        let pitch = bit.law().steady_depth(axial_speed, self.op.omega);
+        self.surface = Some(RockSurface::helix(blades, angle + theta, s + u, pitch));
+        self.evaluated[0].fill(f64::NAN);
+    }
+
+    /// The blades cut the rock up to the accepted state `q` at time `t` (call once per accepted
+    /// step, after the block position of a free top is set). Nothing for a rate law.
+    pub fn advance_surface(&mut self, q: &[f64], t: f64) {
+        if self.surface.is_none() {
+            return;
+        }
+        self.time = t;
+        let [s, angle] = self.rigid_position();
+        let [u, theta] = self.bit_elastic(q);
+        if let Some(surface) = &mut self.surface {
+            surface.advance(angle + theta, s + u);
+        }
+        // The cached forces were read off the rock before this cut.
+        self.evaluated[0].fill(f64::NAN);
     }
 
     /// Whether (q, q̇) = (q_p + c_q q̈, v_p + c_v q̈) of the announced attempt, exactly as the
@@ -292,10 +380,14 @@ impl<'m> Dynamics<'m> {
         }
         let bit_node = m.elements();
         let (iu, it) = (Dof::U.at(bit_node), Dof::ThetaX.at(bit_node));
-        self.bit = if self.effects.bit {
-            m.string.bit.load(self.v_full[iu], self.v_full[it])
-        } else {
-            BitLoad::default()
+        self.bit = match (&self.surface, self.effects.bit) {
+            (_, false) => BitLoad::default(),
+            (None, true) => m.string.bit.load(self.v_full[iu], self.v_full[it]),
+            (Some(surface), true) => {
+                let [s, angle] = self.rigid_position();
+                self.cut = surface.cut(angle + self.q_full[it], s + self.q_full[iu]);
+                (m.string.bit).load_at_depth(self.cut.depth, self.v_full[iu], self.v_full[it])
+            }
         };
         self.f_full[iu] -= self.bit.force;
         self.f_full[it] -= self.bit.torque;
@@ -443,6 +535,11 @@ impl<'m> Dynamics<'m> {
         obs.dissipation = dissipation;
         obs.power_top = top_force * v0 + top_torque * om;
         obs.block_speed = v0;
+        obs.depth_of_cut = if self.surface.is_some() {
+            self.cut.depth
+        } else {
+            f64::NAN
+        };
         obs.power_bit = self.bit.force * obs.bit_velocity + self.bit.torque * obs.bit_spin;
         obs
     }
@@ -497,13 +594,14 @@ impl ImplicitSystem for Dynamics<'_> {
 
     fn residual(
         &mut self,
-        _t: f64,
+        t: f64,
         q: &DVector<f64>,
         v: &DVector<f64>,
         a: &DVector<f64>,
         out: &mut DVector<f64>,
     ) {
         self.residual_evaluations += 1;
+        self.time = t;
         self.evaluate(q, v, a);
         let m = self.model;
         m.blocks.project(&self.f_full, out, &mut self.blocks);
@@ -615,6 +713,24 @@ impl ImplicitSystem for Dynamics<'_> {
             phi.add_dof_outer(-c.cv * b.dtorque_dspin, it, it, out);
             if b.dforce_dspin != 0.0 {
                 phi.add_dof_outer(-c.cv * b.dforce_dspin, iu, it, out);
+            }
+        } else if b.dtorque_dspin != 0.0 {
+            // A depth-of-cut law while the bit rises: the torque still follows the spin.
+            phi.add_dof_outer(-c.cv * b.dtorque_dspin, it, it, out);
+        }
+        // A depth-of-cut law: the depth d = n (u − L(θ)) moves with the bit's position and angle,
+        // ∂(F, T)/∂(u, θ) = ∂(F, T)/∂d · (∂d/∂u, ∂d/∂θ).
+        if b.dforce_ddepth != 0.0 || b.dtorque_ddepth != 0.0 {
+            let Cut {
+                d_position,
+                d_angle,
+                ..
+            } = self.cut;
+            for (row, slope) in [(iu, b.dforce_ddepth), (it, b.dtorque_ddepth)] {
+                phi.add_dof_outer(-c.cq * slope * d_position, row, iu, out);
+                if d_angle != 0.0 {
+                    phi.add_dof_outer(-c.cq * slope * d_angle, row, it, out);
+                }
             }
         }
     }

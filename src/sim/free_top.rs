@@ -77,6 +77,7 @@ impl<'m> FreeTop<'m> {
             p.as_mut_slice().copy_from_slice(&x.as_slice()[..n]);
         }
         self.dynamics.set_rigid_axial(v[n], a[n]);
+        self.dynamics.set_block_position(q[n]);
     }
 
     /// The top law's residual from the top loads, and the autodriller's slopes.
@@ -184,6 +185,23 @@ impl<'m> FreeTop<'m> {
         add(torque_row, -c.cv * bit.dtorque_dspin, it);
         d_top[0] -= c.cv * bit.dforce_dvel;
         d_top[1] -= c.cv * bit.dtorque_dvel;
+        // A depth-of-cut law: the depth moves with the bit's position (s + Φq at the bit) and
+        // angle, ∂(F, T)/∂(u, θ) = ∂(F, T)/∂d · (∂d/∂u, ∂d/∂θ).
+        let cut = sys.cut();
+        if bit.dforce_ddepth != 0.0 || bit.dtorque_ddepth != 0.0 {
+            let (wf, wt) = (
+                -c.cq * bit.dforce_ddepth * cut.d_position,
+                -c.cq * bit.dtorque_ddepth * cut.d_position,
+            );
+            add(column, wf, iu);
+            add(column, wt, it);
+            add(force_row, wf, iu);
+            add(torque_row, wt, iu);
+            add(force_row, -c.cq * bit.dforce_ddepth * cut.d_angle, it);
+            add(torque_row, -c.cq * bit.dtorque_ddepth * cut.d_angle, it);
+            d_top[0] += wf;
+            d_top[1] += wt;
+        }
         d_top
     }
 }

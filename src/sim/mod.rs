@@ -8,6 +8,7 @@ mod dynamics;
 mod envelope;
 mod fatigue;
 mod free_top;
+mod rock_surface;
 mod run;
 mod sampler;
 mod series;
@@ -18,6 +19,7 @@ pub use dynamics::{Dynamics, Effects, Observation};
 pub use envelope::StressEnvelope;
 pub use fatigue::{FATIGUE_FIBRES, SectionFatigue};
 pub use free_top::{FreeTop, START_TOLERANCE, free_top_start};
+pub use rock_surface::{Cut, NODES_PER_REVOLUTION, RockSurface};
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,
     STEPS_PER_PERIOD, SimulationError, SolverStats, check_against_soft_string,

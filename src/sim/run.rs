@@ -776,6 +776,36 @@ impl<'m> Driven<'m> {
         }
     }
 
+    /// The string's modal part of an unknown vector, and the dynamics with the block's
+    /// position set for a free top.
+    fn string_part<'a>(&'a mut self, q: &'a DVector<f64>) -> (&'a mut Dynamics<'m>, &'a [f64]) {
+        match self {
+            Driven::Feed(d) => (d, q.as_slice()),
+            Driven::Free(f) => {
+                let n = q.len() - 1;
+                f.dynamics.set_block_position(q[n]);
+                (&mut f.dynamics, &q.as_slice()[..n])
+            }
+        }
+    }
+
+    /// [`Dynamics::start_surface`] at the state (q, q̇) of time `t` (the block's speed is V0 for
+    /// the imposed feed, unknown n + 1 of q̇ for a free top).
+    fn start_surface(&mut self, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
+        let speed = match self {
+            Driven::Feed(d) => d.op().v0,
+            Driven::Free(_) => v[v.len() - 1],
+        };
+        let (d, part) = self.string_part(q);
+        d.start_surface(part, t, speed);
+    }
+
+    /// [`Dynamics::advance_surface`] to the accepted state q of time `t`.
+    fn advance_surface(&mut self, t: f64, q: &DVector<f64>) {
+        let (d, part) = self.string_part(q);
+        d.advance_surface(part, t);
+    }
+
     /// [`Dynamics::observe`] at time `t`, with the block's position and speed.
     fn observe(
         &mut self,
@@ -786,6 +816,7 @@ impl<'m> Driven<'m> {
     ) -> Observation {
         match self {
             Driven::Feed(d) => {
+                d.set_time(t);
                 let mut obs = d.observe(q, v, a);
                 obs.block_position = d.op().v0 * t;
                 obs
@@ -968,6 +999,8 @@ pub fn simulate_into<S: Sink>(
         }
     };
     let mut sys = Driven::new(model, op, effects);
+    // A depth-of-cut bit: the bottom hole the start's steady drilling has cut.
+    sys.start_surface(0.0, &q0, &v0);
     let mut nm = integrator(model, settings.newmark, q0, v0);
     let mut error = None;
     if preloaded && effects == Effects::ALL {
@@ -1000,6 +1033,7 @@ pub fn simulate_into<S: Sink>(
         }
         let nm = &stepper.nm;
         let obs = sys.observe_step(nm.t, &nm.q, &nm.v, &nm.a);
+        sys.advance_surface(nm.t, &nm.q);
         let ratio = obs.max_radial_over_gap;
         if !rec.push(nm.t, &op, obs, sys.dynamics(), &settings.probes) {
             error = Some(SimulationError::RecordingStopped { time: nm.t });

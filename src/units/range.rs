@@ -17,6 +17,8 @@ pub struct Range {
     pub hi: f64,
     /// 0 is admitted too (an "off" state such as off-bottom rotation); `lo` > 0.
     pub zero: bool,
+    /// Only whole numbers (a count, such as a bit's blades).
+    pub integer: bool,
     pub why: &'static str,
 }
 
@@ -27,6 +29,18 @@ impl Range {
             lo,
             hi,
             zero: false,
+            integer: false,
+            why,
+        }
+    }
+
+    /// The whole numbers in [lo, hi] (a count).
+    pub const fn integer(lo: f64, hi: f64, why: &'static str) -> Range {
+        Range {
+            lo,
+            hi,
+            zero: false,
+            integer: true,
             why,
         }
     }
@@ -39,13 +53,16 @@ impl Range {
             lo,
             hi,
             zero: true,
+            integer: false,
             why,
         }
     }
 
     /// Whether `x` is finite and inside the range.
     pub fn contains(&self, x: f64) -> bool {
-        x.is_finite() && ((x >= self.lo && x <= self.hi) || (self.zero && x == 0.0))
+        x.is_finite()
+            && ((x >= self.lo && x <= self.hi) || (self.zero && x == 0.0))
+            && (!self.integer || x.fract() == 0.0)
     }
 
     /// "in [0, 1000] m/h (why)" (or "0 or in [0.1, 1000] m/h (why)"): the range in a unit of the
@@ -64,18 +81,26 @@ impl Range {
         };
         format!(
             "{}in [{}, {}]{unit} ({})",
-            if self.zero { "0 or " } else { "" },
+            self.prefix(),
             show(self.lo),
             show(self.hi),
             self.why
         )
     }
 
+    fn prefix(&self) -> &'static str {
+        match (self.zero, self.integer) {
+            (true, _) => "0 or ",
+            (false, true) => "a whole number ",
+            (false, false) => "",
+        }
+    }
+
     /// "in [1, 15000] m (why)", in the dimension's SI unit, the ends as Rust prints them.
     pub fn describe(&self, dim: Dimension) -> String {
         format!(
             "{}in [{}, {}] {} ({})",
-            if self.zero { "0 or " } else { "" },
+            self.prefix(),
             self.lo,
             self.hi,
             dim.si_unit(),
@@ -105,6 +130,14 @@ mod tests {
                 && !z.contains(-0.0 - 1e-9)
         );
         assert_eq!(z.describe(Dimension::Length), "0 or in [0.5, 1] m (why)");
+        // A count: whole numbers only.
+        let n = Range::integer(1.0, 16.0, "blades");
+        assert!(n.contains(1.0) && n.contains(6.0) && n.contains(16.0));
+        assert!(!n.contains(5.5) && !n.contains(0.0) && !n.contains(17.0));
+        assert_eq!(
+            n.describe(Dimension::Dimensionless),
+            format!("a whole number in [1, 16] {} (blades)", Dimension::Dimensionless.si_unit())
+        );
         let v0 = Range::closed(0.0, 1000.0 / 3600.0, "at most 1000 m/h");
         assert_eq!(
             v0.describe_in("m/h", 1.0 / 3600.0),

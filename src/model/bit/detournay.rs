@@ -51,7 +51,7 @@ pub struct Detournay {
     pub velocity_smoothing: f64,
 }
 
-const PARAMETERS: [ParameterSpec; 9] = [
+pub(super) const PARAMETERS: [ParameterSpec; 9] = [
     ParameterSpec {
         key: "model.bit.radius",
         dimension: Dimension::Length,
@@ -193,6 +193,7 @@ impl BitRockLaw for Detournay {
             dforce_dspin: -self.cutting_force_ratio * eps * a * dd_dspin,
             dtorque_dvel: -s * dtob_dvel,
             dtorque_dspin: -(s * cut_t * dd_dspin + tob * ds_dspin),
+            ..BitLoad::default()
         }
     }
 }

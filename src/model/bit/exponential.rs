@@ -91,6 +91,7 @@ impl BitRockLaw for Exponential {
             dforce_dspin: 0.0,
             dtorque_dvel: -self.friction * (-dforce_dvel) * x,
             dtorque_dspin: -self.friction * magnitude * dx,
+            ..BitLoad::default()
         }
     }
 }

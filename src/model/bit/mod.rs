@@ -8,13 +8,24 @@
 //! Sign conventions (all laws): the axial coordinate u points from the top drive to the bit, so
 //! u̇ > 0 is the bit advancing into the rock; θ̇ > 0 is the top drive's sense of rotation. The
 //! force on the string is F ≤ 0 (WOB = −F) and the torque T opposes positive spin (TOB = −T).
-//! Off bottom (u̇ ≤ 0) every law gives neither force nor torque: bit-bounce.
+//! Off bottom every law gives neither force nor torque: bit-bounce. For the rate laws off bottom
+//! is u̇ ≤ 0; for a depth-of-cut law ([`Rgd`]) it is a position: the bit above the rock its
+//! blades left (depth of cut d ≤ 0).
+//!
+//! Two kinds of law share the trait. A *rate law* gives the load from the bit's velocities
+//! ([`BitRockLaw::load`]). A *depth-of-cut law* ([`BitRockLaw::blades`] is `Some`) gives it from
+//! the depth of cut d per revolution that the simulator reads off the rock surface the blades left
+//! ([`crate::sim::RockSurface`], state of the run), [`BitRockLaw::load_at_depth`]; its
+//! [`BitRockLaw::load`] is its quasi-static form (d = 2π u̇/θ̇), which the soft-string estimate and
+//! the starting state use.
 
 mod detournay;
 mod exponential;
 mod impedance;
+mod rgd;
 
 pub use detournay::Detournay;
+pub use rgd::Rgd;
 pub use exponential::{Exponential, xi};
 pub use impedance::{bit_damping_ratio, torsional_impedance};
 
@@ -35,6 +46,10 @@ pub struct BitLoad {
     pub dtorque_dvel: f64,
     /// ∂T_BR/∂θ̇, N·m·s.
     pub dtorque_dspin: f64,
+    /// ∂F_BR/∂d, N/m, d the depth of cut per revolution (zero for rate laws).
+    pub dforce_ddepth: f64,
+    /// ∂T_BR/∂d, N·m/m (zero for rate laws).
+    pub dtorque_ddepth: f64,
 }
 
 /// A bit–rock interaction law: its name and parameters ([`Law`]), and the load it puts on the
@@ -42,6 +57,28 @@ pub struct BitLoad {
 pub trait BitRockLaw: Law + CloneBitRockLaw {
     /// Force and torque on the string at bit axial velocity `vel` (m/s) and spin `spin` (rad/s).
     fn load(&self, vel: f64, spin: f64) -> BitLoad;
+
+    /// The number of blades n of a depth-of-cut law, whose load depends on the rock surface the
+    /// blades left (the simulator keeps it as state); `None` (the default) for a rate law.
+    fn blades(&self) -> Option<u32> {
+        None
+    }
+
+    /// Force and torque on the string when the rock surface gives a depth of cut `depth` per
+    /// revolution (m; ≤ 0: off bottom) at bit axial velocity `vel` (m/s) and spin `spin` (rad/s),
+    /// with the derivatives in `depth` in [`BitLoad::dforce_ddepth`] and
+    /// [`BitLoad::dtorque_ddepth`]. A rate law ignores `depth` (the default).
+    fn load_at_depth(&self, depth: f64, vel: f64, spin: f64) -> BitLoad {
+        let _ = depth;
+        self.load(vel, spin)
+    }
+
+    /// The depth of cut per revolution of steady drilling at (vel, spin), m: the pitch of the
+    /// helical bottom hole on which a depth-of-cut law's run starts, chosen so that
+    /// `load_at_depth(steady_depth(v, w), v, w) == load(v, w)`. Rate laws: 2π v/|w| (unused).
+    fn steady_depth(&self, vel: f64, spin: f64) -> f64 {
+        2.0 * std::f64::consts::PI * vel.max(0.0) / spin.abs().max(f64::MIN_POSITIVE)
+    }
 }
 
 law_kind!(BitRockLaw, CloneBitRockLaw);
@@ -50,7 +87,7 @@ law_kind!(BitRockLaw, CloneBitRockLaw);
 pub type BitLawEntry = LawEntry<dyn BitRockLaw>;
 
 /// Every bit–rock law drillopt knows; the first is the default when a file names none.
-pub const BIT_LAWS: &[BitLawEntry] = &[exponential::ENTRY, detournay::ENTRY];
+pub const BIT_LAWS: &[BitLawEntry] = &[exponential::ENTRY, detournay::ENTRY, rgd::ENTRY];
 
 /// The registry entry of the law called `name`.
 pub fn bit_law(name: &str) -> Option<&'static BitLawEntry> {
@@ -65,6 +102,17 @@ impl BitRock {
     #[inline]
     pub fn load(&self, vel: f64, spin: f64) -> BitLoad {
         self.law().load(vel, spin)
+    }
+
+    /// See [`BitRockLaw::load_at_depth`].
+    #[inline]
+    pub fn load_at_depth(&self, depth: f64, vel: f64, spin: f64) -> BitLoad {
+        self.law().load_at_depth(depth, vel, spin)
+    }
+
+    /// See [`BitRockLaw::blades`].
+    pub fn blades(&self) -> Option<u32> {
+        self.law().blades()
     }
 }
 
@@ -125,9 +173,14 @@ pub(crate) mod tests {
     #[test]
     fn every_registered_law_builds_from_its_defaults_and_round_trips_its_values() {
         for law in crate::model::law::tests::check_registry(BIT_LAWS) {
-            // Off bottom nothing, whatever the spin.
+            // Off bottom nothing, whatever the spin (and, for a depth-of-cut law, whatever the
+            // velocity when the bit is above the rock).
             assert_eq!(law.load(0.0, 3.0), BitLoad::default());
             assert_eq!(law.load(-1e-3, -3.0), BitLoad::default());
+            if law.blades().is_some() {
+                assert_eq!(law.load_at_depth(0.0, 1e-3, 3.0), BitLoad::default());
+                assert_eq!(law.load_at_depth(-1e-4, 1e-3, 3.0), BitLoad::default());
+            }
         }
     }
 }
