@@ -20,12 +20,16 @@
 //! neither force nor torque, and the bit lands again where the surface is).
 //!
 //! drillopt's regularisation of the set-valued contacts (stated so it can be checked): the wear
-//! flats press with W_f = σ a ℓ · h(u̇) · g(d), h = max(tanh(u̇/v_r), 0) (no friction force while
-//! the bit rises) and g = tanh(d/d_r) (the flats touch the rock smoothly as the bit lands); the
+//! flats press with W_f = σ a ℓ · h(u̇) · g(d), h = ½ (1 + tanh(u̇/v_r)) (the set [0, σaℓ] of
+//! the flats' force while the bit stands still axially, smoothly: σaℓ/2 at u̇ = 0, the whole of
+//! it advancing, none rising; a smooth h matters because the delay makes the axial motion
+//! unstable and the bit spends whole phases near u̇ = 0) and g = tanh(d/d_r) (the flats touch
+//! the rock smoothly as the bit lands); the
 //! torque's sign follows tanh(θ̇/ω_r). The cutting force ζ ε a d acts whenever d > 0: a bit
 //! pressed into the rock without turning meets a stiffness n ζ ε a per metre of axial motion
 //! instead of cutting. For d ≫ d_r, u̇ ≫ v_r and θ̇ ≫ ω_r this is the law above, and at constant
-//! Ω and V (d = 2π V/Ω) it is the quasi-static law [`super::Detournay`] (tested).
+//! Ω and V (d = 2π V/Ω) it is Detournay & Defourny's law, the quasi-static law
+//! [`super::Detournay`] without its regularised depth (tested).
 
 use super::detournay::PARAMETERS as DETOURNAY;
 use super::{BitLawEntry, BitLoad, BitRockLaw};
@@ -121,14 +125,21 @@ law_with_fields!(
 );
 
 impl BitRockLaw for Rgd {
-    /// The quasi-static form: the depth of cut of steady drilling, d = 2π u̇/√(θ̇² + ω_r²).
+    /// The quasi-static form: the depth of cut of steady drilling, the pitch of the helix the
+    /// blades cut, d = 2π u̇/max(|θ̇|, ω_r) (geometric, so that a run started on it is a steady
+    /// state of the delay law; ω_r only keeps it finite for a bit that does not turn).
     fn load(&self, vel: f64, spin: f64) -> BitLoad {
         if vel <= 0.0 {
             return BitLoad::default();
         }
-        let w_hat = spin.hypot(self.spin_smoothing);
+        let w_hat = spin.abs().max(self.spin_smoothing);
         let d = 2.0 * PI * vel / w_hat;
-        let (dd_dvel, dd_dspin) = (2.0 * PI / w_hat, -d * spin / (w_hat * w_hat));
+        let dd_dvel = 2.0 * PI / w_hat;
+        let dd_dspin = if spin.abs() > self.spin_smoothing {
+            -d * spin.signum() / w_hat
+        } else {
+            0.0
+        };
         let b = self.load_at_depth(d, vel, spin);
         BitLoad {
             force: b.force,
@@ -152,12 +163,8 @@ impl BitRockLaw for Rgd {
         let (a, eps) = (self.radius, self.specific_energy);
         let g = (depth / self.contact_smoothing).tanh();
         let dg = (1.0 - g * g) / self.contact_smoothing;
-        let (h, dh) = if vel > 0.0 {
-            let h = (vel / self.velocity_smoothing).tanh();
-            (h, (1.0 - h * h) / self.velocity_smoothing)
-        } else {
-            (0.0, 0.0)
-        };
+        let x = (vel / self.velocity_smoothing).tanh();
+        let (h, dh) = (0.5 * (1.0 + x), 0.5 * (1.0 - x * x) / self.velocity_smoothing);
         let s = (spin / self.spin_smoothing).tanh();
         let ds = (1.0 - s * s) / self.spin_smoothing;
         let flats = self.contact_strength * a * self.wear_flat_length;
@@ -179,7 +186,7 @@ impl BitRockLaw for Rgd {
     }
 
     fn steady_depth(&self, vel: f64, spin: f64) -> f64 {
-        2.0 * PI * vel.max(0.0) / spin.hypot(self.spin_smoothing)
+        2.0 * PI * vel.max(0.0) / spin.abs().max(self.spin_smoothing)
     }
 }
 
@@ -199,30 +206,30 @@ mod tests {
     }
 
     #[test]
-    fn its_quasi_static_form_is_detournays_law() {
-        // At constant Ω and V the bit cuts d = 2πV/Ω per revolution whatever the blades: the
-        // rate law of Detournay & Defourny (the landing regularisation tanh(d/d_r) is 1 to
-        // 1e-12 for d ≥ 0.3 mm).
-        let (r, d) = (example(), detournay());
-        for (v, w) in [(10.0 / 3600.0, 4.0 * PI), (30.0 / 3600.0, 2.0), (2e-3, 20.0)] {
-            let (a, b) = (r.load(v, w), d.load(v, w));
-            for (x, y, what) in [
-                (a.force, b.force, "WOB"),
-                (a.torque, b.torque, "TOB"),
-                (a.dforce_dvel, b.dforce_dvel, "dF/du̇"),
-                (a.dtorque_dspin, b.dtorque_dspin, "dT/dθ̇"),
-                (a.dtorque_dvel, b.dtorque_dvel, "dT/du̇"),
-                (a.dforce_dspin, b.dforce_dspin, "dF/dθ̇"),
-            ] {
-                assert!(
-                    (x - y).abs() <= 1e-10 * y.abs().max(1.0),
-                    "{what} at ({v}, {w}): {x} vs {y}"
-                );
-            }
-            // And the depth form at the steady depth is the same load.
+    fn its_quasi_static_form_is_detournay_and_defournys_law() {
+        // At constant Ω and V the blades cut the helix d = 2πV/Ω per revolution whatever their
+        // number, and the rock answers with Detournay & Defourny's phase-II law (the flats fully
+        // engaged: V ≫ v_r, d ≫ d_r), computed here from the raw numbers.
+        let r = example();
+        let (a, eps, zeta, sigma, ell, mu) = (0.108, 100e6, 0.6, 60e6, 1e-3, 0.6);
+        // (Ω ≥ 8 rad/s: the torque's sign tanh(Ω/ω_r) is 1 to 1e-13.)
+        for (v, w) in [(10.0 / 3600.0, 4.0 * PI), (30.0 / 3600.0, 8.0), (2e-3, 20.0)] {
+            let d = 2.0 * PI * v / w;
+            let wob = zeta * eps * a * d + sigma * a * ell;
+            let tob = 0.5 * eps * a * a * d + 0.5 * mu * a * sigma * a * ell;
+            let l = r.load(v, w);
+            assert!((-l.force / wob - 1.0).abs() < 1e-12, "WOB at ({v}, {w})");
+            assert!((-l.torque / tob - 1.0).abs() < 1e-12, "TOB at ({v}, {w})");
+            // The depth form at the steady depth is the same load.
             let c = r.load_at_depth(r.steady_depth(v, w), v, w);
-            assert_eq!((c.force, c.torque), (a.force, a.torque));
+            assert_eq!((c.force, c.torque), (l.force, l.torque));
         }
+        // And Detournay's rate law, whose depth 2πV/√(Ω² + ω_r²) is regularised, differs from it
+        // by (ω_r/Ω)²/2 of the cutting part at most.
+        let det = detournay();
+        let (v, w) = (10.0 / 3600.0, 4.0 * PI);
+        let gap = (r.load(v, w).force / det.load(v, w).force - 1.0).abs();
+        assert!(gap < 0.5 * (0.5 / w) * (0.5 / w), "{gap}");
     }
 
     #[test]
@@ -239,9 +246,13 @@ mod tests {
         assert!((dw / (zeta * eps * a * 1e-3) - 1.0).abs() < 1e-12, "{dw}");
         let ratio = (l2.torque - l1.torque) / (l2.force - l1.force);
         assert!((ratio * 2.0 * zeta / a - 1.0).abs() < 1e-3, "{ratio}");
-        // Rising: the flats let go, the cutters still bite.
+        // Rising (u̇ = −10 v_r): the flats let go, the cutters still bite.
         let up = r.load_at_depth(1e-3, -1e-3, w);
-        assert!((-up.force - zeta * eps * a * 1e-3).abs() < 1e-6, "{up:?}");
+        assert!((-up.force - zeta * eps * a * 1e-3).abs() < 1e-3, "{up:?}");
+        // Standing still axially: half the flats' force, the middle of the set [0, σaℓ].
+        let still = r.load_at_depth(1e-3, 0.0, w);
+        let flats = 60e6 * a * 1e-3;
+        assert!((-still.force - zeta * eps * a * 1e-3 - 0.5 * flats).abs() < 1e-6);
     }
 
     #[test]
