@@ -1,7 +1,8 @@
 //! The simulator's cost on the seed configuration (105 elements) with the paper's basis (51 lowest
 //! modes, unloaded start) and with drillopt's default basis (16 / 8 / 4 per family + 2 static
 //! corrections, pre-loaded start): one time step from a drilling state with stick-slip developing,
-//! and a 1 s simulated window.
+//! and a 1 s simulated window; 1 s of the seed string with Detournay's rate law and with the
+//! delayed depth-of-cut law `rgd` (`bit_law/…`).
 //!
 //! `cargo bench --bench sim`. The whole 90 s seed run is timed by `drillopt simulate` itself
 //! (summary.json, `solver.wall_time_s`).
@@ -74,6 +75,44 @@ fn benches(c: &mut Criterion) {
         });
         group.finish();
     }
+    bit_laws(c);
+}
+
+/// 1 s of `problems/seed_detournay.toml` (60 rpm, 5 m/h, imposed feed, default basis, pre-loaded
+/// start) with Detournay's rate law and with the delayed depth-of-cut law `rgd` (4 blades, the
+/// same rock): the cost of the delay (the rock surface's read and cut, and the axial
+/// instability it lets grow; issue 29).
+fn bit_laws(c: &mut Criterion) {
+    let text = include_str!("../problems/seed_detournay.toml");
+    let mut group = c.benchmark_group("bit_law");
+    group.sample_size(10);
+    for law in ["detournay", "rgd"] {
+        let toml = if law == "rgd" {
+            text.replace("law = \"detournay\"", "law = \"rgd\"\nblades = 4")
+        } else {
+            text.to_string()
+        };
+        let p = Problem::from_toml(&toml, std::path::Path::new("seed_detournay.toml"))
+            .expect("seed_detournay");
+        let model =
+            ReducedModel::new(&p.model, p.mesh.elements, &BasisSpec::DEFAULT).expect("modes");
+        let one_second = RunSettings::new(1.0, p.simulation.time_step);
+        group.bench_function(format!("simulate_1s_{law}"), |b| {
+            b.iter(|| {
+                let out = simulate(
+                    &model,
+                    p.operating_point,
+                    Effects::ALL,
+                    &one_second,
+                    InitialState::Preloaded,
+                    |_| {},
+                );
+                assert!(out.error.is_none());
+                out.stats.steps
+            })
+        });
+    }
+    group.finish();
 }
 
 criterion_group!(sim, benches);

@@ -79,8 +79,16 @@ fn under_the_imposed_feed_the_start_is_the_helix_of_steady_drilling() {
     let s = run("rgd", TopDrive::Feed, op, 0.3);
     assert!(s.t.len() > 100);
     let (wob, tob) = closed_form(op.v0, op.omega);
-    assert!((s.weight_on_bit[0] / wob - 1.0).abs() < 1e-9, "{}", s.weight_on_bit[0]);
-    assert!((s.torque_on_bit[0] / tob - 1.0).abs() < 1e-9, "{}", s.torque_on_bit[0]);
+    assert!(
+        (s.weight_on_bit[0] / wob - 1.0).abs() < 1e-9,
+        "{}",
+        s.weight_on_bit[0]
+    );
+    assert!(
+        (s.torque_on_bit[0] / tob - 1.0).abs() < 1e-9,
+        "{}",
+        s.torque_on_bit[0]
+    );
     let worst = worst_drift(&s);
     assert!(worst < 1e-6, "drift {worst:e}");
 }
@@ -103,7 +111,11 @@ fn under_an_autodriller_the_rock_is_fixed_while_the_block_moves() {
     assert!(speed < 0.75 * op.v0, "the limit binds: {speed}");
     // The bit's TOB is the closed form's at the bit's own speed.
     let (_, tob) = closed_form(s.bit_velocity[0], op.omega);
-    assert!((s.torque_on_bit[0] / tob - 1.0).abs() < 1e-9, "{}", s.torque_on_bit[0]);
+    assert!(
+        (s.torque_on_bit[0] / tob - 1.0).abs() < 1e-9,
+        "{}",
+        s.torque_on_bit[0]
+    );
     let worst = worst_drift(&s);
     assert!(worst < 1e-6, "drift {worst:e}");
 }

@@ -20,7 +20,11 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 12] = [
+const SHIPPED: [(&str, &str); 13] = [
+    (
+        "problems/seed_rgd.toml",
+        include_str!("../problems/seed_rgd.toml"),
+    ),
     (
         "problems/seed_mc2014.toml",
         include_str!("../problems/seed_mc2014.toml"),

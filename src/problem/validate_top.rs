@@ -4,8 +4,8 @@ use super::ProblemError;
 use super::schema::{OperatingPointSection, RawQuantity};
 use super::validate::Checker;
 use crate::model::{
-    Autodriller, DEFAULT_TIME_CONSTANT, ParameterSpec, TIME_CONSTANT_RANGE, TORQUE_RANGE,
-    TopDrive, WOB_RANGE,
+    Autodriller, DEFAULT_TIME_CONSTANT, ParameterSpec, TIME_CONSTANT_RANGE, TORQUE_RANGE, TopDrive,
+    WOB_RANGE,
 };
 use crate::units::{Dimension, Range};
 

@@ -136,7 +136,10 @@ mod tests {
         assert!(!n.contains(5.5) && !n.contains(0.0) && !n.contains(17.0));
         assert_eq!(
             n.describe(Dimension::Dimensionless),
-            format!("a whole number in [1, 16] {} (blades)", Dimension::Dimensionless.si_unit())
+            format!(
+                "a whole number in [1, 16] {} (blades)",
+                Dimension::Dimensionless.si_unit()
+            )
         );
         let v0 = Range::closed(0.0, 1000.0 / 3600.0, "at most 1000 m/h");
         assert_eq!(

@@ -25,9 +25,9 @@ mod impedance;
 mod rgd;
 
 pub use detournay::Detournay;
-pub use rgd::Rgd;
 pub use exponential::{Exponential, xi};
 pub use impedance::{bit_damping_ratio, torsional_impedance};
+pub use rgd::Rgd;
 
 use super::law::{Chosen, Law, LawEntry, law_kind};
 

@@ -164,7 +164,10 @@ impl BitRockLaw for Rgd {
         let g = (depth / self.contact_smoothing).tanh();
         let dg = (1.0 - g * g) / self.contact_smoothing;
         let x = (vel / self.velocity_smoothing).tanh();
-        let (h, dh) = (0.5 * (1.0 + x), 0.5 * (1.0 - x * x) / self.velocity_smoothing);
+        let (h, dh) = (
+            0.5 * (1.0 + x),
+            0.5 * (1.0 - x * x) / self.velocity_smoothing,
+        );
         let s = (spin / self.spin_smoothing).tanh();
         let ds = (1.0 - s * s) / self.spin_smoothing;
         let flats = self.contact_strength * a * self.wear_flat_length;
@@ -213,7 +216,11 @@ mod tests {
         let r = example();
         let (a, eps, zeta, sigma, ell, mu) = (0.108, 100e6, 0.6, 60e6, 1e-3, 0.6);
         // (Ω ≥ 8 rad/s: the torque's sign tanh(Ω/ω_r) is 1 to 1e-13.)
-        for (v, w) in [(10.0 / 3600.0, 4.0 * PI), (30.0 / 3600.0, 8.0), (2e-3, 20.0)] {
+        for (v, w) in [
+            (10.0 / 3600.0, 4.0 * PI),
+            (30.0 / 3600.0, 8.0),
+            (2e-3, 20.0),
+        ] {
             let d = 2.0 * PI * v / w;
             let wob = zeta * eps * a * d + sigma * a * ell;
             let tob = 0.5 * eps * a * a * d + 0.5 * mu * a * sigma * a * ell;
