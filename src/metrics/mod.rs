@@ -307,7 +307,8 @@ pub struct Metrics {
     pub mean_top_force_n: f64,
     /// Mean ROP over the feed set-point V0, dimensionless (MODEL.md §11.8): 1 under the imposed
     /// feed (to the settling of the window's ends); below 1 under an autodriller whenever a limit
-    /// or the dynamics cost footage. NaN (null in summary.json) at V0 = 0: no set-point.
+    /// or the dynamics cost footage. 0 at V0 = 0 by definition (off-bottom rotation has no
+    /// set-point; series metrics are never NaN).
     pub rop_set_point_ratio: f64,
     /// Share of the window during which the autodriller's WOB limit commanded the block (its
     /// law [`crate::model::autodriller_acceleration`] took the WOB branch), dimensionless in

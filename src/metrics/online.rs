@@ -266,11 +266,11 @@ impl Window {
                 .map_or(f64::NAN, |a| energy_balance_residual(&a, &last)),
             mean_top_torque_nm: self.sums[TOP_TORQUE] / window,
             mean_top_force_n: self.sums[TOP_FORCE] / window,
-            // Undefined without a set-point (written as null, like the MSE at zero ROP).
+            // No set-point: 0 by definition (a series metric is never NaN, see tests_off_bottom).
             rop_set_point_ratio: if config.v0 > 0.0 {
                 mean_rop / config.v0
             } else {
-                f64::NAN
+                0.0
             },
             wob_limit_fraction: self.sums[WOB_LIMIT] / window,
             torque_limit_fraction: self.sums[TORQUE_LIMIT] / window,
