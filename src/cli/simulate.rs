@@ -439,14 +439,17 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDr
         if let Some(w) = yield_warning(m) {
             eprintln!("{w}");
         }
-        if m.bit_damping_ratio > 1.0 && stiffness_damping == 0.0 {
+        // The ratio is the rate law's slope at the imposed feed V0; an autodriller that holds its
+        // WOB limit most of the window fixes the depth of cut, and the law's torque no longer
+        // falls with the spin (README, "The driller's top"): no warning then.
+        let held = matches!(top, TopDrive::Autodriller(_)) && m.wob_limit_fraction > 0.5;
+        let negative = m.bit_damping_ratio > 1.0 && !held;
+        if negative && stiffness_damping == 0.0 {
             eprintln!(
                 "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1): the bit feeds torsional waves faster than the string carries them away, and without [model.pipe] stiffness_damping the stick-slip statistics depend on the shortest torsional waves the basis holds: expect `drillopt verify` to find them not converged (README, \"Converged model\": stiffness_damping = \"10 us\" bounds them)",
                 m.bit_damping_ratio
             );
-        } else if m.bit_damping_ratio > 1.0
-            && stiffness_damping < CONVERGED_STIFFNESS_DAMPING * (1.0 - 1e-9)
-        {
+        } else if negative && stiffness_damping < CONVERGED_STIFFNESS_DAMPING * (1.0 - 1e-9) {
             eprintln!(
                 "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1), and stiffness_damping = {:.3} us is below the 10 us with which `drillopt verify` found the stick-slip statistics converged up to a ratio of 1.98 (1 us was too little; README, \"Converged model\"): check this point with `drillopt verify`",
                 m.bit_damping_ratio,

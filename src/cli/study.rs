@@ -253,13 +253,14 @@ pub(super) fn table_row(p: &PointEvaluation) -> String {
         p.samples_used,
         m("mean_rop_m_per_h"),
         m("stick_slip_severity"),
-        m("stick_fraction"),
+        100.0 * m("stick_fraction"),
         m("impacts_per_s"),
         m("mean_wob_n") / 1e3,
     )
 }
 
-/// `±`: the half-width of the score's confidence interval (95 % unless
+/// `V0`: the feed set-point (the autodriller's, which the bit reaches only below its limits; the
+/// ROP column is what it drilled); `±`: the half-width of the score's confidence interval (95 % unless
 /// `uncertain.sequential.confidence` says otherwise); `n`: the samples the point used.
 pub(super) const TABLE_HEADER: &str =
-    "    rpm      m/h     score        ±    n  ROP m/h    SSI   stick  impacts/s  WOB kN feasible";
+    "    rpm   V0 m/h     score        ±    n  ROP m/h    SSI stick %  impacts/s  WOB kN feasible";
