@@ -110,6 +110,7 @@ fn under_an_autodriller_the_rock_is_fixed_while_the_block_moves() {
     let top = TopDrive::Autodriller(Autodriller {
         wob_limit: 60e3,
         torque_limit: None,
+        power_limit: None,
         time_constant: 1.0,
     });
     let s = run("rgd", top, op, 0.3);

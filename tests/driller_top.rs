@@ -204,6 +204,7 @@ fn autodriller(wob_limit: f64, time_constant: f64) -> TopDrive {
     TopDrive::Autodriller(Autodriller {
         wob_limit,
         torque_limit: None,
+        power_limit: None,
         time_constant,
     })
 }
@@ -354,10 +355,23 @@ fn the_top_keys_are_refused_where_they_mean_nothing() {
         m.contains("operating_point.top") && m.contains("not yet"),
         "{m}"
     );
+    let m = message(edit(
+        v0,
+        "v0 = \"5 m/h\"\ntop = \"autodriller\"\nwob_limit = \"60 kN\"\npower_limit = \"20 MW\"",
+    ));
+    assert!(
+        m.contains("operating_point.power_limit") && m.contains("10 MW"),
+        "{m}"
+    );
+    let m = message(edit(v0, "v0 = \"5 m/h\"\npower_limit = \"500 hp\""));
+    assert!(
+        m.contains("operating_point.power_limit") && m.contains("autodriller"),
+        "{m}"
+    );
     // Accepted: the autodriller with its limits, in field units.
     let p = edit(
         v0,
-        "v0 = \"5 m/h\"\ntop = \"autodriller\"\nwob_limit = \"10 klbf\"\ntorque_limit = \"5 kft.lbf\"\nautodriller_time_constant = \"2 s\"",
+        "v0 = \"5 m/h\"\ntop = \"autodriller\"\nwob_limit = \"10 klbf\"\ntorque_limit = \"5 kft.lbf\"\npower_limit = \"800 hp\"\nautodriller_time_constant = \"2 s\"",
     )
     .unwrap();
     let TopDrive::Autodriller(a) = p.model.top else {
@@ -369,6 +383,7 @@ fn the_top_keys_are_refused_where_they_mean_nothing() {
         a.wob_limit
     );
     assert!((a.torque_limit.unwrap() / 6779.09 - 1.0).abs() < 1e-5);
+    assert!((a.power_limit.unwrap() / 596_559.9 - 1.0).abs() < 1e-6);
     assert_eq!(a.time_constant, 2.0);
 }
 
@@ -398,5 +413,53 @@ fn the_unreduced_model_drills_at_the_same_rop_under_an_autodriller() {
         "ROP {} m/h against {} m/h",
         simulated * 3600.0,
         expected * 3600.0
+    );
+}
+
+#[test]
+fn a_power_rating_limits_the_torque_to_power_over_omega() {
+    // A 5 kW top drive at 60 rpm (2π rad/s) can give 795.8 N·m, below the torque of drilling at
+    // V0 = 10 m/h (the WOB limit of 1 MN never binds): the block slows until the top torque is
+    // P/Ω, exactly as under the torque limit P/Ω itself (the same run, bit for bit).
+    let power = 5e3;
+    let op = OperatingPoint {
+        omega: omega(),
+        v0: 10.0 / 3600.0,
+    };
+    let limited = |torque_limit: Option<f64>, power_limit: Option<f64>| {
+        let m = model(TopDrive::Autodriller(Autodriller {
+            wob_limit: 1e6,
+            torque_limit,
+            power_limit,
+            time_constant: 1.0,
+        }));
+        let out = simulate(
+            &m,
+            op,
+            Effects::ALL,
+            &RunSettings::new(2.0, 1e-3),
+            InitialState::Preloaded,
+            |_| {},
+        );
+        assert!(out.error.is_none(), "{:?}", out.error);
+        out.series
+    };
+    let by_power = limited(None, Some(power));
+    let by_torque = limited(Some(power / op.omega), None);
+    assert_eq!(by_power.top_torque, by_torque.top_torque);
+    assert_eq!(by_power.block_speed, by_torque.block_speed);
+    let held = mean(&by_power, &by_power.top_torque, 0.5, 2.0);
+    assert!(
+        (held * op.omega / power - 1.0).abs() < 1e-4,
+        "top torque {held} N·m, P/Ω = {}",
+        power / op.omega
+    );
+    assert!(rop(&by_power, 0.5, 2.0) < 0.9 * op.v0, "the limit binds");
+    // A tighter torque limit rules over the power.
+    let both = limited(Some(0.5 * power / op.omega), Some(power));
+    let held = mean(&both, &both.top_torque, 0.5, 2.0);
+    assert!(
+        (held * op.omega / (0.5 * power) - 1.0).abs() < 1e-4,
+        "{held}"
     );
 }

@@ -420,11 +420,19 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDr
             m.mean_top_force_n / 1e3
         );
         if let TopDrive::Autodriller(ad) = top {
-            let torque = match ad.torque_limit {
+            let torque = match ad.torque_limit_at(s.operating_point.omega_rad_s) {
                 Some(l) => format!(
-                    "{:.1} % at the torque limit ({:.2} kN·m)",
+                    "{:.1} % at the torque limit ({:.2} kN·m{})",
                     100.0 * m.torque_limit_fraction,
-                    l / 1e3
+                    l / 1e3,
+                    match ad.power_limit {
+                        Some(p) => format!(
+                            ", {:.1} kW at {:.1} rpm",
+                            p / 1e3,
+                            s.operating_point.omega_rpm
+                        ),
+                        None => String::new(),
+                    }
                 ),
                 None => "no torque limit".into(),
             };

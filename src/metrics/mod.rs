@@ -94,9 +94,13 @@ impl MetricsConfig {
         }
     }
 
-    /// This configuration for a run under the top law `top`.
+    /// This configuration for a run under the top law `top` (an autodriller's power limit read
+    /// as the torque limit it sets at this configuration's Ω).
     pub fn with_top(self, top: crate::model::TopDrive) -> Self {
-        Self { top, ..self }
+        Self {
+            top: top.at_speed(self.omega),
+            ..self
+        }
     }
 
     /// Check the ranges documented on each field.

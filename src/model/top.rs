@@ -19,7 +19,9 @@
 //!
 //!   s̈ = min( (V0 − ṡ)/τ,  −V0 (W_s − W_lim)/(W_lim τ),  −V0 (T_s − T_lim)/(T_lim τ) ),
 //!
-//!   the torque term only when a torque limit is given. The surface WOB W_s is the off-bottom hook
+//!   the torque term only when a torque limit is given. A top drive's power rating P caps the
+//!   torque it can give at Ω: T_lim = min(torque limit, P/Ω) ([`Autodriller::at_speed`]), so at
+//!   high rotation speed the rig, not the bit, limits the depth of cut. The surface WOB W_s is the off-bottom hook
 //!   load minus the hook load, the top force F_top less the top force off bottom: a horizontal
 //!   string rotating off bottom with the block at rest has no axial load at the top (no axial
 //!   gravity; its wall friction acts on the spin only), so W_s = F_top. T_s is the top-drive
@@ -55,11 +57,48 @@ pub struct Autodriller {
     pub wob_limit: f64,
     /// T_lim, N·m; `None` for no torque limit.
     pub torque_limit: Option<f64>,
+    /// The top drive's power rating P, W: a torque limit P/Ω at rotation speed Ω; `None` for none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub power_limit: Option<f64>,
     /// τ, s.
     pub time_constant: f64,
 }
 
+impl Autodriller {
+    /// The torque limit at rotation speed `omega` (rad/s), N·m: the smaller of the torque limit
+    /// and the power limit over Ω; `None` when neither is set.
+    pub fn torque_limit_at(&self, omega: f64) -> Option<f64> {
+        let by_power = self
+            .power_limit
+            .map(|p| p / omega.abs().max(f64::MIN_POSITIVE));
+        match (self.torque_limit, by_power) {
+            (Some(t), Some(p)) => Some(t.min(p)),
+            (t, p) => t.or(p),
+        }
+    }
+
+    /// This autodriller at rotation speed `omega` (rad/s): the power limit turned into the torque
+    /// limit it sets there ([`Self::torque_limit_at`]), which is what
+    /// [`autodriller_acceleration`] reads.
+    pub fn at_speed(&self, omega: f64) -> Autodriller {
+        Autodriller {
+            torque_limit: self.torque_limit_at(omega),
+            power_limit: None,
+            ..*self
+        }
+    }
+}
+
 impl TopDrive {
+    /// This top at rotation speed `omega` (rad/s): an autodriller's power limit becomes its
+    /// torque limit there ([`Autodriller::at_speed`]); the other tops are unchanged.
+    pub fn at_speed(&self, omega: f64) -> TopDrive {
+        match self {
+            TopDrive::Autodriller(a) => TopDrive::Autodriller(a.at_speed(omega)),
+            top => *top,
+        }
+    }
+
     /// Whether the block's position is a degree of freedom (every top but the imposed feed).
     pub fn is_free(&self) -> bool {
         !matches!(self, TopDrive::Feed)
@@ -101,6 +140,11 @@ pub const TORQUE_RANGE: Range = Range::closed(
 pub const TIME_CONSTANT_RANGE: Range =
     Range::closed(0.01, 600.0, "10 ms to 10 min: how fast the block answers");
 
+/// Admissible range of the top drive's power rating, W: 100 W (a laboratory string) to 10 MW,
+/// above any top drive's (about 1.5 MW, 2000 hp).
+pub const POWER_RANGE: Range =
+    Range::closed(100.0, 1e7, "100 W to 10 MW, above any top drive's rating");
+
 /// The autodriller's time constant when a file names none, s: a block that answers in a second,
 /// as the drawworks of a modern rig do.
 pub const DEFAULT_TIME_CONSTANT: f64 = 1.0;
@@ -141,6 +185,7 @@ mod tests {
         let a = Autodriller {
             wob_limit: 50e3,
             torque_limit: Some(10e3),
+            power_limit: None,
             time_constant: 2.0,
         };
         let v0 = 0.01;
@@ -167,5 +212,33 @@ mod tests {
             ..a
         };
         assert!(autodriller_acceleration(&free, v0, 0.004, 20e3, 1e9).0 > 0.0);
+    }
+
+    #[test]
+    fn a_power_rating_caps_the_torque_at_high_speed() {
+        // 25 kW: 3.98 kN·m at 60 rpm (2π rad/s), 1.99 kN·m at 120 rpm; the smaller limit rules.
+        let a = Autodriller {
+            wob_limit: 50e3,
+            torque_limit: Some(3e3),
+            power_limit: Some(25e3),
+            time_constant: 1.0,
+        };
+        let pi = std::f64::consts::PI;
+        assert_eq!(a.torque_limit_at(2.0 * pi), Some(3e3));
+        assert!((a.torque_limit_at(4.0 * pi).unwrap() - 25e3 / (4.0 * pi)).abs() < 1e-9);
+        let only_power = Autodriller {
+            torque_limit: None,
+            ..a
+        };
+        assert!((only_power.torque_limit_at(2.0 * pi).unwrap() - 3978.87).abs() < 0.01);
+        let at = only_power.at_speed(4.0 * pi);
+        assert_eq!(at.power_limit, None);
+        assert_eq!(at.torque_limit, only_power.torque_limit_at(4.0 * pi));
+        let neither = Autodriller {
+            torque_limit: None,
+            power_limit: None,
+            ..a
+        };
+        assert_eq!(neither.torque_limit_at(1.0), None);
     }
 }

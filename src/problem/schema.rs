@@ -174,6 +174,8 @@ pub struct OperatingPointSection {
     pub wob_limit: Option<RawQuantity>,
     /// The autodriller's surface torque limit (none when absent).
     pub torque_limit: Option<RawQuantity>,
+    /// The top drive's power rating: a torque limit P/Ω (none when absent).
+    pub power_limit: Option<RawQuantity>,
     /// The autodriller's time constant τ.
     pub autodriller_time_constant: Option<RawQuantity>,
 }

@@ -4,8 +4,8 @@ use super::ProblemError;
 use super::schema::{OperatingPointSection, RawQuantity};
 use super::validate::Checker;
 use crate::model::{
-    Autodriller, DEFAULT_TIME_CONSTANT, ParameterSpec, TIME_CONSTANT_RANGE, TORQUE_RANGE, TopDrive,
-    WOB_RANGE,
+    Autodriller, DEFAULT_TIME_CONSTANT, POWER_RANGE, ParameterSpec, TIME_CONSTANT_RANGE,
+    TORQUE_RANGE, TopDrive, WOB_RANGE,
 };
 use crate::units::{Dimension, Range};
 
@@ -68,9 +68,10 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
                 .into(),
         );
     }
-    let keys: [(&str, &Option<RawQuantity>, &[&str]); 3] = [
+    let keys: [(&str, &Option<RawQuantity>, &[&str]); 4] = [
         ("wob_limit", &o.wob_limit, &["autodriller"]),
         ("torque_limit", &o.torque_limit, &["autodriller"]),
+        ("power_limit", &o.power_limit, &["autodriller"]),
         (
             "autodriller_time_constant",
             &o.autodriller_time_constant,
@@ -119,6 +120,16 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
                 )?),
                 None => None,
             };
+            let power_limit = match &o.power_limit {
+                Some(raw) => Some(value(
+                    "operating_point.power_limit",
+                    raw,
+                    Dimension::Power,
+                    POWER_RANGE,
+                    "the top drive's power rating: a torque limit P/Ω",
+                )?),
+                None => None,
+            };
             let time_constant = match &o.autodriller_time_constant {
                 Some(raw) => value(
                     "operating_point.autodriller_time_constant",
@@ -132,6 +143,7 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
             Ok(TopDrive::Autodriller(Autodriller {
                 wob_limit,
                 torque_limit,
+                power_limit,
                 time_constant,
             }))
         }

@@ -58,6 +58,7 @@ pub fn driller_unit(dim: Dimension) -> (&'static str, f64) {
         Dimension::Torque => ("kN·m", 1e-3),
         Dimension::Pressure => ("MPa", 1e-6),
         Dimension::Impulse => ("kN·s", 1e-3),
+        Dimension::Power => ("kW", 1e-3),
         Dimension::Dimensionless => ("1", 1.0),
         other => (other.si_unit(), 1.0),
     }

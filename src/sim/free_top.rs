@@ -49,6 +49,8 @@ impl<'m> FreeTop<'m> {
     /// The string of `dynamics` under `law` (not [`TopDrive::Feed`]) with feed set-point `v0`.
     pub fn new(dynamics: Dynamics<'m>, law: TopDrive, v0: f64) -> Self {
         debug_assert!(law.is_free());
+        // A power limit is the torque limit it sets at the run's Ω.
+        let law = law.at_speed(dynamics.op().omega);
         let n = dynamics.model.size();
         FreeTop {
             dynamics,
@@ -304,7 +306,7 @@ pub fn free_top_start(
     effects: Effects,
 ) -> Result<(DVector<f64>, f64, usize), SimulationError> {
     let string = &model.string;
-    let top = string.top;
+    let top = string.top.at_speed(op.omega);
     // h(F, T) − 1: negative below the law's load, zero on it.
     let excess = |loads: [f64; 2]| -> f64 {
         match top {

@@ -59,6 +59,8 @@ pub enum Dimension {
     Torque,
     /// Impulse, SI unit N·s.
     Impulse,
+    /// Power, SI unit W (a top drive's rating).
+    Power,
 }
 
 /// `value` in a unit of `factor` SI units, in SI. A decimal sub-unit (mm, ms, us: factor 10⁻ᵏ)
@@ -173,6 +175,13 @@ impl Dimension {
                 ("kN·s", 1e3),
                 ("kN.s", 1e3),
             ],
+            Dimension::Power => &[
+                ("W", 1.0),
+                ("kW", 1e3),
+                ("MW", 1e6),
+                // Mechanical horsepower, 550 ft·lbf/s (NIST SP 811, B.8: 7.456999 E+02 W).
+                ("hp", 550.0 * FT_LBF_NM),
+            ],
         }
     }
 
@@ -217,7 +226,7 @@ impl Dimension {
     }
 
     /// Every dimension, for messages.
-    pub const ALL: [Dimension; 17] = [
+    pub const ALL: [Dimension; 18] = [
         Dimension::Dimensionless,
         Dimension::Length,
         Dimension::Time,
@@ -235,6 +244,7 @@ impl Dimension {
         Dimension::MomentOfInertia,
         Dimension::Torque,
         Dimension::Impulse,
+        Dimension::Power,
     ];
 
     /// "a force", "a stress (pressure)": the dimension in words, for messages.
@@ -257,6 +267,7 @@ impl Dimension {
             CubicStiffness => "a cubic stiffness",
             Torque => "a torque",
             Impulse => "an impulse",
+            Power => "a power",
             MomentOfInertia => "a moment of inertia",
         }
     }
@@ -441,6 +452,9 @@ mod tests {
         assert!((Dimension::Torque.parse("1 ft.lbf").unwrap() - 1.355818).abs() < 1e-6);
         close(Dimension::Torque.parse("2.5 kN·m").unwrap(), 2500.0);
         close(Dimension::Impulse.parse("3 kN·s").unwrap(), 3000.0);
+        close(Dimension::Power.parse("25 kW").unwrap(), 25e3);
+        // 1000 hp: a mid-size top drive (NIST: 1 hp = 745.6999 W).
+        assert!((Dimension::Power.parse("1000 hp").unwrap() - 745_699.9).abs() < 0.1);
         close(Dimension::Rate.parse("7.2 1/h").unwrap(), 0.002);
         // A unit of another dimension is refused as such, listing the oilfield units too.
         let err = Dimension::Density.parse("10 psi").unwrap_err().to_string();
