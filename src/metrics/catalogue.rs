@@ -287,6 +287,14 @@ pub const METRICS: &[MetricSpec] = &[
     .direction(Better)
     .derives_from(&["mean_rop_m_per_h"]),
     MetricSpec::new(
+        "set_point_shortfall",
+        Dimensionless,
+        WhenUsed(Mean, 0.01),
+        |m| m.set_point_shortfall,
+    )
+    .shown("set-point not drilled", "%", 100.0)
+    .derives_from(&["mean_rop_m_per_h"]),
+    MetricSpec::new(
         "wob_limit_fraction",
         Dimensionless,
         WhenUsed(Mean, 0.05),

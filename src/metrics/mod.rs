@@ -314,6 +314,11 @@ pub struct Metrics {
     /// or the dynamics cost footage. 0 at V0 = 0 by definition (off-bottom rotation has no
     /// set-point; series metrics are never NaN).
     pub rop_set_point_ratio: f64,
+    /// The share of the feed set-point the bit did not drill, 1 − mean ROP / V0, dimensionless:
+    /// what a set-point above what the rock and the rig allow asks for in vain (a risk term that
+    /// grows with the set-point's excess, where ROP itself is flat); about 0 under the imposed
+    /// feed, 0 at V0 = 0 (no set-point).
+    pub set_point_shortfall: f64,
     /// Share of the window during which the autodriller's WOB limit commanded the block (its
     /// law [`crate::model::autodriller_acceleration`] took the WOB branch), dimensionless in
     /// [0, 1]; 0 under any other top.
@@ -364,6 +369,7 @@ impl Metrics {
             mean_top_torque_nm: n,
             mean_top_force_n: n,
             rop_set_point_ratio: n,
+            set_point_shortfall: n,
             wob_limit_fraction: n,
             torque_limit_fraction: n,
         }

@@ -272,6 +272,11 @@ impl Window {
             } else {
                 0.0
             },
+            set_point_shortfall: if config.v0 > 0.0 {
+                1.0 - mean_rop / config.v0
+            } else {
+                0.0
+            },
             wob_limit_fraction: self.sums[WOB_LIMIT] / window,
             torque_limit_fraction: self.sums[TORQUE_LIMIT] / window,
             ..Metrics::unset()
