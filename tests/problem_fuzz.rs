@@ -20,7 +20,11 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 13] = [
+const SHIPPED: [(&str, &str); 14] = [
+    (
+        "problems/regression/seed_power_limit.toml",
+        include_str!("../problems/regression/seed_power_limit.toml"),
+    ),
     (
         "problems/seed_rgd.toml",
         include_str!("../problems/seed_rgd.toml"),
