@@ -295,3 +295,36 @@ fn the_delay_destabilises_steady_drilling_as_its_characteristic_equation_says() 
         );
     }
 }
+
+#[test]
+fn the_blade_count_is_a_whole_number_and_never_uncertain() {
+    let text = |extra: &str| {
+        SEED_DETOURNAY.replace("law = \"detournay\"", "law = \"rgd\"\nblades = 4") + extra
+    };
+    let refused = |extra: &str| {
+        Problem::from_toml(&text(extra), std::path::Path::new("seed_rgd.toml"))
+            .expect_err("refused")
+            .to_string()
+    };
+    let uncertain = |key: &str| {
+        format!(
+            "\n[uncertain]\nsamples = 2\n\n[[uncertain.parameter]]\nkey = \"{key}\"\nlaw = \"uniform\"\nlow = 3\nhigh = 5\n"
+        )
+    };
+    let m = refused(&uncertain("model.bit.blades"));
+    assert!(m.contains("model.bit.blades") && m.contains("count"), "{m}");
+    // An unknown key lists what can be uncertain: the rgd keys, not the blade count.
+    let m = refused(&uncertain("model.bit.bladez"));
+    assert!(m.contains("model.bit.contact_smoothing"), "{m}");
+    assert!(!m.contains("model.bit.blades"), "{m}");
+    let m = Problem::from_toml(
+        &SEED_DETOURNAY.replace("law = \"detournay\"", "law = \"rgd\"\nblades = 4.5"),
+        std::path::Path::new("seed_rgd.toml"),
+    )
+    .expect_err("refused")
+    .to_string();
+    assert!(
+        m.contains("model.bit.blades") && m.contains("whole number"),
+        "{m}"
+    );
+}

@@ -427,8 +427,9 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDr
                     l / 1e3,
                     match ad.power_limit {
                         Some(p) => format!(
-                            ", {:.1} kW at {:.1} rpm",
+                            "; the {:.1} kW rating gives {:.2} kN·m at {:.1} rpm",
                             p / 1e3,
+                            p / s.operating_point.omega_rad_s / 1e3,
                             s.operating_point.omega_rpm
                         ),
                         None => String::new(),

@@ -216,15 +216,17 @@ impl ParameterKey {
     }
 
     /// Every key that can be varied in this string: the string's own, its wall law's, its bit
-    /// law's.
+    /// law's, counts (whole numbers, such as a bit's blades) excepted.
     pub fn available(string: &Drillstring) -> Vec<&'static str> {
-        let fixed = STRING_PARAMETERS.iter().map(|r| r.spec.key);
+        let fixed = STRING_PARAMETERS.iter().map(|r| &r.spec);
         let laws = [
             string.wall.law().parameters(),
             string.bit.law().parameters(),
         ];
         fixed
-            .chain(laws.into_iter().flatten().map(|p| p.key))
+            .chain(laws.into_iter().flatten())
+            .filter(|p| !p.range.integer)
+            .map(|p| p.key)
             .collect()
     }
 
