@@ -65,6 +65,9 @@ pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let mut problem = Problem::load(&args.problem)?;
+    if let Some(w) = super::simulate::depth_of_cut_warning(&problem.model) {
+        eprintln!("{w}");
+    }
     study::apply_overrides(&mut problem, &args.problem, &args.run, None)?;
     study::start_threads(args.run.threads)?;
     let ops = args

@@ -41,6 +41,9 @@ pub fn parse_grid(text: &str) -> anyhow::Result<[usize; 2]> {
 
 pub fn run(args: &MapArgs) -> anyhow::Result<()> {
     let mut problem = Problem::load(&args.problem)?;
+    if let Some(w) = super::simulate::depth_of_cut_warning(&problem.model) {
+        eprintln!("{w}");
+    }
     study::apply_overrides(&mut problem, &args.problem, &args.run, None)?;
     study::start_threads(args.run.threads)?;
     let grid = match &args.grid {

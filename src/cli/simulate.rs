@@ -332,13 +332,8 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         problem.model.stiffness_damping,
         problem.model.top,
     );
-    if problem.model.bit.blades().is_some()
-        && problem.model.stiffness_damping < CONVERGED_STIFFNESS_DAMPING * (1.0 - 1e-9)
-    {
-        eprintln!(
-            "warning: a depth-of-cut bit (law = \"rgd\") destabilises every axial mode the model holds, and the reduced basis has a spurious one above its axial modes (near 505 Hz on the seed string, growing faster than the physical first axial mode) that only [model.pipe] stiffness_damping bounds: with stiffness_damping = {:.3} us, below the 10 us with which the reduced model's growth matches the string's characteristic equation (README, \"A bit that cuts rock\"), the dynamics of this run may be the basis', not the string's",
-            problem.model.stiffness_damping * 1e6
-        );
+    if let Some(w) = depth_of_cut_warning(&problem.model) {
+        eprintln!("{w}");
     }
     if let Some(e) = &output.error {
         anyhow::bail!(
@@ -359,6 +354,20 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
 /// statistics converged up to bit_damping_ratio 1.98 (README, "Converged model"), s; 1 µs was too
 /// little.
 const CONVERGED_STIFFNESS_DAMPING: f64 = 1e-5;
+
+/// The warning for a depth-of-cut bit (`law = "rgd"`) without the stiffness damping that bounds
+/// the reduced basis' spurious high mode (README, "A bit that cuts rock"); `None` otherwise.
+/// Printed by `simulate` and by the study commands.
+pub(super) fn depth_of_cut_warning(string: &crate::model::Drillstring) -> Option<String> {
+    (string.bit.blades().is_some()
+        && string.stiffness_damping < CONVERGED_STIFFNESS_DAMPING * (1.0 - 1e-9))
+        .then(|| {
+            format!(
+                "warning: a depth-of-cut bit (law = \"rgd\") destabilises every axial mode the model holds, and the reduced basis has a spurious one above its axial modes (near 505 Hz on the seed string, growing faster than the physical first axial mode) that only [model.pipe] stiffness_damping bounds: with stiffness_damping = {:.3} us, below the 10 us with which the reduced model's growth matches the string's characteristic equation (README, \"A bit that cuts rock\"), the dynamics may be the basis', not the string's",
+                string.stiffness_damping * 1e6
+            )
+        })
+}
 
 /// `stiffness_damping`: the model's β, s; with none (or one below the evidence of
 /// [`CONVERGED_STIFFNESS_DAMPING`], to round-off: `"10 us"` reads as 9.999999999999999e-6 s) a

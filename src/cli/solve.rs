@@ -224,6 +224,9 @@ fn print_check(c: &NumericalCheck) {
 
 pub fn run(args: &SolveArgs) -> anyhow::Result<()> {
     let mut problem = Problem::load(&args.problem)?;
+    if let Some(w) = super::simulate::depth_of_cut_warning(&problem.model) {
+        eprintln!("{w}");
+    }
     study::apply_overrides(&mut problem, &args.problem, &args.run, args.budget)?;
     study::start_threads(args.run.threads)?;
     let out = study::out_dir(&args.run.out, &problem, "solve")?;
