@@ -95,10 +95,11 @@ impl Linearised {
         let mut roots: Vec<Complex<f64>> = Vec::new();
         for f in 1..1000 {
             let guess = Complex::new(0.0, 2.0 * PI * f as f64);
-            if let Some(r) = self.root_near(guess, omega, v).filter(|r| r.im > 0.0) {
-                if roots.iter().all(|x| (x - r).norm() > 1e-6 * r.norm()) {
-                    roots.push(r);
-                }
+            let new = |r: &Complex<f64>| {
+                r.im > 0.0 && roots.iter().all(|x| (x - r).norm() > 1e-6 * r.norm())
+            };
+            if let Some(r) = self.root_near(guess, omega, v).filter(new) {
+                roots.push(r);
             }
         }
         roots.sort_by(|a, b| b.re.total_cmp(&a.re));
