@@ -20,7 +20,7 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 14] = [
+const SHIPPED: [(&str, &str); 15] = [
     (
         "problems/regression/seed_power_limit.toml",
         include_str!("../problems/regression/seed_power_limit.toml"),
@@ -28,6 +28,10 @@ const SHIPPED: [(&str, &str); 14] = [
     (
         "problems/seed_rgd.toml",
         include_str!("../problems/seed_rgd.toml"),
+    ),
+    (
+        "problems/seed_rgd_bounce.toml",
+        include_str!("../problems/seed_rgd_bounce.toml"),
     ),
     (
         "problems/seed_mc2014.toml",
