@@ -134,6 +134,10 @@ fn verify_reports_verdicts_that_follow_from_its_numbers() {
     // Ω = 60 rpm: one revolution per second.
     let revolutions = r["window_revolutions"].as_f64().unwrap();
     assert!((revolutions - 0.5).abs() < 1e-12, "{revolutions}");
+    assert_eq!(
+        r["smoothing_keys"],
+        serde_json::json!(["model.wall.slip_smoothing"])
+    );
     let metrics = r["metrics"].as_object().unwrap();
     // The tiny string decides on no stress metric: the core decision metrics only.
     let always = drillopt::metrics::METRICS
@@ -146,7 +150,13 @@ fn verify_reports_verdicts_that_follow_from_its_numbers() {
         let value = v["value"].as_f64().unwrap();
         let floor = v["floor"].as_f64().unwrap();
         let refined = v["refined"].as_object().unwrap();
-        assert_eq!(refined.len(), 4, "{key}: basis, mesh, tolerance, window");
+        // The tiny string's wall has the seed's friction (1e-5) on the Coulomb law: its slip
+        // smoothing is refined too.
+        assert_eq!(
+            refined.keys().collect::<Vec<_>>(),
+            ["basis", "mesh", "smoothing", "tolerance", "window"],
+            "{key}"
+        );
         let max = refined
             .values()
             .map(|r| (r.as_f64().unwrap() - value).abs() / value.abs().max(floor))

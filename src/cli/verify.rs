@@ -17,11 +17,13 @@ pub struct VerifyArgs {
     #[command(flatten)]
     pub point: PointArgs,
     /// Print the report as JSON: {"metrics": {KEY: {"value", "refined": {"basis", "mesh",
-    /// "tolerance", "window"}, "max_rel_change", "limit", "floor", "converged", …}},
-    /// "converged", "basis", "refined_basis", "runs"}. The relative change of a refined value r
-    /// is |r − value| / max(|value|, floor), the floor keeping a metric near 0 from turning
-    /// round-off into a large change; the columns of the table are the refined runs ("tolerance":
-    /// integrator tolerances ÷4), "limit" the largest change accepted. A `reduced_modes = N`
+    /// "tolerance", "window", "smoothing"}, "max_rel_change", "limit", "floor", "converged", …}},
+    /// "converged", "basis", "refined_basis", "smoothing_keys", "runs"}. The relative change of a
+    /// refined value r is |r − value| / max(|value|, floor), the floor keeping a metric near 0
+    /// from turning round-off into a large change; the columns of the table are the refined runs
+    /// ("tolerance": integrator tolerances ÷4; "smoothing", for a string whose laws smooth a
+    /// set-valued contact or friction: those widths, `smoothing_keys`, ÷2), "limit" the largest
+    /// change accepted. A `reduced_modes = N`
     /// basis is refined to the ⌈1.5 N⌉ lowest modes. "perturbed" is the base model at Ω·(1 +
     /// 1e-4) and "sensitivity" its relative change, the trajectory's own sensitivity; "verdict"
     /// is "converged", "not_converged" (a refinement beyond the limit: truncation) or
@@ -37,7 +39,7 @@ pub struct VerifyArgs {
     /// so use it with a window of seconds (`--duration`).
     #[arg(long)]
     pub unreduced: bool,
-    /// Threads that run the six (seven with --unreduced) runs [default: every core, or
+    /// Threads that run the six or seven runs (one more with --unreduced) [default: every core, or
     /// RAYON_NUM_THREADS]; an integer in [1, 1024]. The results do not depend on it.
     #[arg(long, value_name = "N", value_parser = super::whole_number)]
     pub threads: Option<usize>,
@@ -54,7 +56,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
         duration,
         settling: problem.simulation.settling_time.min(0.5 * duration),
     };
-    let mut refinements = Refinement::ALL.to_vec();
+    let mut refinements = verify::refinements(&problem);
     if args.unreduced {
         refinements.push(Refinement::Unreduced);
     }
@@ -208,6 +210,13 @@ fn print_table(
             ""
         }
     );
+    if !r.smoothing_keys.is_empty() {
+        println!(
+            "smoothing: {} divided by {}",
+            r.smoothing_keys.join(", "),
+            verify::SMOOTHING_DIVISOR
+        );
+    }
     print!("{:<22} {:>7} {:>12}", "metric", "unit", "value");
     for refinement in refinements {
         print!(" {:>12}", refinement.name());

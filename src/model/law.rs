@@ -163,6 +163,21 @@ impl<L: ?Sized + Law> Chosen<L> {
         self.0.set(index, value);
     }
 
+    /// Divide every regularisation width of the law (the parameters whose key ends in
+    /// `_smoothing`: the widths of its tanh and square-root smoothings of set-valued contact and
+    /// friction laws) by `divisor`, and say which keys.
+    pub fn refine_smoothing(&mut self, divisor: f64) -> Vec<&'static str> {
+        let mut keys = Vec::new();
+        for (i, p) in self.0.parameters().iter().enumerate() {
+            if p.key.ends_with("_smoothing") {
+                let value = self.0.value(i);
+                self.0.set(i, value / divisor);
+                keys.push(p.key);
+            }
+        }
+        keys
+    }
+
     /// Canonical form `{"law": name, "parameters": {key: value, …}}`, full keys in table order
     /// (cache keys).
     pub(super) fn serialize_named<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {

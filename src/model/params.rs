@@ -101,6 +101,28 @@ impl Drillstring {
     pub fn gap(&self) -> f64 {
         self.borehole_radius - self.pipe.outer_radius
     }
+
+    /// The string with the regularisation widths of its contact and friction laws that act
+    /// divided by `divisor`, and their keys (empty: nothing to refine). The widths are
+    /// numerics, not physics: each smooths a set-valued law (a sign, a contact that switches on,
+    /// Coulomb's |s| at zero slip), and a metric that depends on them is not converged
+    /// (`drillopt verify`'s "smoothing" refinement). They are the bit law's `…_smoothing`
+    /// parameters, and, when the wall has friction, the Coulomb law's `slip_smoothing` or, for
+    /// the paper's torque-only friction, the wall law's `sign_smoothing`.
+    pub fn with_smoothing_refined(&self, divisor: f64) -> (Drillstring, Vec<&'static str>) {
+        let mut string = self.clone();
+        let mut keys = string.bit.refine_smoothing(divisor);
+        if string.wall.law().friction() > 0.0 {
+            match &mut string.wall_friction {
+                super::WallFriction::Coulomb { slip_smoothing } => {
+                    *slip_smoothing /= divisor;
+                    keys.push("model.wall.slip_smoothing");
+                }
+                super::WallFriction::Paper => keys.extend(string.wall.refine_smoothing(divisor)),
+            }
+        }
+        (string, keys)
+    }
 }
 
 /// Finite-element discretisation and reduction (MODEL.md §7).

@@ -1,10 +1,12 @@
 //! Solution verification at one operating point (`drillopt verify`): is a decision metric a
 //! property of the model, or of its discretisation?
 //!
-//! The problem is run as it stands (the *base*) and four times refined, one numerical parameter at
-//! a time: every family of the basis enriched ([`BASIS_FACTOR`]), twice the elements, the
-//! integrator's tolerances divided by [`TOLERANCE_DIVISOR`], and an analysis window twice as long
-//! (same settling time). For each decision metric the largest relative change from the base,
+//! The problem is run as it stands (the *base*) and four or five times refined, one numerical
+//! parameter at a time: every family of the basis enriched ([`BASIS_FACTOR`]), twice the elements,
+//! the integrator's tolerances divided by [`TOLERANCE_DIVISOR`], an analysis window twice as long
+//! (same settling time), and, for a string whose laws smooth a set-valued contact or friction
+//! (every depth-of-cut bit, any wall with friction), those regularisation widths divided by
+//! [`SMOOTHING_DIVISOR`] ([`crate::model::Drillstring::with_smoothing_refined`]). For each decision metric the largest relative change from the base,
 //! |refined − base| / max(|base|, floor), is compared with its tolerance: 2 % for means (ROP, WOB,
 //! TOB, MSE), 10 % for stick-slip statistics (SSI, stick fraction, peak bit speed ratio). The
 //! floors keep a metric that is (nearly) zero from turning round-off into a large relative change.
@@ -38,6 +40,8 @@ use std::collections::BTreeMap;
 pub const BASIS_FACTOR: f64 = 1.5;
 /// The integrator's tolerances (absolute, relative, Newton) are divided by this.
 pub const TOLERANCE_DIVISOR: f64 = 4.0;
+/// The regularisation widths of the contact and friction laws (`…_smoothing`) are divided by this.
+pub const SMOOTHING_DIVISOR: f64 = 2.0;
 /// Relative change of Ω in the sensitivity run: far below any discretisation error of the
 /// metrics (on the seed at 60 rpm, 5 m/h it moves SSI, stick fraction and peak bit speed ratio
 /// by ≤ 0.1 %), so a larger change is the trajectory's, not the model's.
@@ -124,6 +128,9 @@ pub enum Refinement {
     Mesh,
     Tolerance,
     Window,
+    /// The regularisation widths of the laws divided by [`SMOOTHING_DIVISOR`] (only for a string
+    /// that has some: [`refinements`]).
+    Smoothing,
     /// The finite-element model without reduction, on the problem's mesh (opt-in: `verify
     /// --unreduced`; it costs about 100× the reduced run).
     Unreduced,
@@ -146,6 +153,7 @@ impl Refinement {
             Refinement::Mesh => "mesh",
             Refinement::Tolerance => "tolerance",
             Refinement::Window => "window",
+            Refinement::Smoothing => "smoothing",
             Refinement::Unreduced => "unreduced",
             Refinement::Perturbed => "perturbed",
         }
@@ -207,6 +215,9 @@ pub struct VerifyReport {
     pub converged: bool,
     pub basis: BasisCounts,
     pub refined_basis: BasisCounts,
+    /// The regularisation widths the smoothing refinement divided by [`SMOOTHING_DIVISOR`]
+    /// (empty when it was not run).
+    pub smoothing_keys: Vec<&'static str>,
     pub runs: Vec<VerifyRun>,
 }
 
@@ -253,16 +264,32 @@ struct Variant {
     basis: BasisSpec,
     duration: f64,
     tolerance_divisor: f64,
+    smoothing_divisor: f64,
 }
 
-/// Run the base, the four refinements and the perturbed run (in parallel) and judge each
+/// The refinements `verify` makes for `problem`: [`Refinement::ALL`], and
+/// [`Refinement::Smoothing`] when its string has regularisation widths that act.
+pub fn refinements(problem: &Problem) -> Vec<Refinement> {
+    let mut list = Refinement::ALL.to_vec();
+    if !smoothing_keys(problem).is_empty() {
+        list.push(Refinement::Smoothing);
+    }
+    list
+}
+
+/// The keys of the regularisation widths the smoothing refinement divides (empty: none act).
+pub fn smoothing_keys(problem: &Problem) -> Vec<&'static str> {
+    problem.model.with_smoothing_refined(SMOOTHING_DIVISOR).1
+}
+
+/// Run the base, the problem's [`refinements`] and the perturbed run (in parallel) and judge each
 /// decision metric. `progress` is told the name of each run as it finishes.
 pub fn verify(
     problem: &Problem,
     settings: VerifySettings,
     progress: impl Fn(&str) + Sync,
 ) -> Result<VerifyReport, VerifyError> {
-    let mut runs = Refinement::ALL.to_vec();
+    let mut runs = refinements(problem);
     runs.push(Refinement::Perturbed);
     verify_with(problem, settings, &runs, progress)
 }
@@ -282,6 +309,7 @@ pub fn verify_with(
         basis: problem.mesh.basis.clone(),
         duration: settings.duration,
         tolerance_divisor: 1.0,
+        smoothing_divisor: 1.0,
     };
     let window = settings.duration - settings.settling;
     let variants: Vec<Variant> = std::iter::once(base)
@@ -294,12 +322,14 @@ pub fn verify_with(
                 basis: problem.mesh.basis.clone(),
                 duration: settings.duration,
                 tolerance_divisor: 1.0,
+                smoothing_divisor: 1.0,
             };
             match r {
                 Refinement::Basis => v.basis = v.basis.enriched(BASIS_FACTOR),
                 Refinement::Mesh => v.elements *= 2,
                 Refinement::Tolerance => v.tolerance_divisor = TOLERANCE_DIVISOR,
                 Refinement::Window => v.duration = settings.settling + 2.0 * window,
+                Refinement::Smoothing => v.smoothing_divisor = SMOOTHING_DIVISOR,
                 Refinement::Unreduced => v.unreduced = true,
                 Refinement::Perturbed => v.omega_factor = 1.0 + PERTURBATION,
             }
@@ -372,6 +402,11 @@ pub fn verify_with(
         metrics: verdicts,
         basis: base_run.basis,
         refined_basis,
+        smoothing_keys: if refinements.contains(&Refinement::Smoothing) {
+            smoothing_keys(problem)
+        } else {
+            Vec::new()
+        },
         runs: results.into_iter().map(|(r, _)| r).collect(),
     })
 }
@@ -394,10 +429,17 @@ fn run_variant(
     v: &Variant,
     model_metrics: bool,
 ) -> Result<(VerifyRun, Metrics), VerifyError> {
-    let model = if v.unreduced {
-        ReducedModel::unreduced(&problem.model, v.elements)
+    let smoothed;
+    let string = if v.smoothing_divisor == 1.0 {
+        &problem.model
     } else {
-        ReducedModel::new(&problem.model, v.elements, &v.basis)
+        smoothed = problem.model.with_smoothing_refined(v.smoothing_divisor).0;
+        &smoothed
+    };
+    let model = if v.unreduced {
+        ReducedModel::unreduced(string, v.elements)
+    } else {
+        ReducedModel::new(string, v.elements, &v.basis)
     }
     .map_err(|source| VerifyError::Basis {
         run: v.name,

@@ -159,3 +159,58 @@ fn the_blade_count_is_a_whole_number_and_never_uncertain() {
         "{m}"
     );
 }
+
+/// `verify`'s smoothing refinement halves the regularisation widths that act, and nothing else:
+/// the depth-of-cut bit's three and the Coulomb wall's slip smoothing; the paper's torque-only
+/// wall friction has its sign smoothing instead; a frictionless wall and the paper's bit law none.
+#[test]
+fn the_smoothing_refinement_halves_the_widths_that_act_and_nothing_else() {
+    let p = problem("rgd");
+    let (refined, keys) = p.model.with_smoothing_refined(2.0);
+    assert_eq!(
+        keys,
+        [
+            "model.bit.spin_smoothing",
+            "model.bit.velocity_smoothing",
+            "model.bit.contact_smoothing",
+            "model.wall.slip_smoothing"
+        ]
+    );
+    for spec in p.model.bit.law().parameters() {
+        let (before, after) = (
+            p.model.bit.get(spec.key).unwrap(),
+            refined.bit.get(spec.key).unwrap(),
+        );
+        let expected = if keys.contains(&spec.key) {
+            before / 2.0
+        } else {
+            before
+        };
+        assert_eq!(after, expected, "{}", spec.key);
+    }
+    assert_eq!(
+        refined.wall_friction,
+        drillopt::model::WallFriction::Coulomb {
+            slip_smoothing: drillopt::model::WallFriction::DEFAULT_SLIP_SMOOTHING / 2.0
+        }
+    );
+    let mut rest = refined.clone();
+    rest.bit = p.model.bit.clone();
+    rest.wall_friction = p.model.wall_friction;
+    assert_eq!(
+        serde_json::to_string(&rest).unwrap(),
+        serde_json::to_string(&p.model).unwrap(),
+        "nothing else changes"
+    );
+    // The paper's own file: the paper's bit (no widths) and torque-only wall friction.
+    let paper = Problem::load(common::SEED_PAPER).unwrap();
+    let (refined, keys) = paper.model.with_smoothing_refined(2.0);
+    assert_eq!(keys, ["model.wall.sign_smoothing"]);
+    let sign = |s: &drillopt::model::Drillstring| s.wall.get("model.wall.sign_smoothing").unwrap();
+    assert_eq!(sign(&refined), sign(&paper.model) / 2.0);
+    // A frictionless wall: nothing.
+    let mut frictionless = paper.model.clone();
+    let i = frictionless.wall.index_of("model.wall.friction").unwrap();
+    frictionless.wall.set(i, 0.0);
+    assert!(frictionless.with_smoothing_refined(2.0).1.is_empty());
+}
