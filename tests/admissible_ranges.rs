@@ -160,7 +160,7 @@ fn constraint_bounds_and_the_depth_of_cut_take_the_operating_point_ranges() {
     const OMEGA: &str = "omega = [\"30 rpm\", \"150 rpm\"]";
     const V0: &str = "v0 = [\"2 m/h\", \"20 m/h\"]";
     refused(
-        &edit(OMEGA, "omega = [\"30 rpm\", 1e12]"),
+        &edit(OMEGA, "omega = [\"30 rpm\", \"1e12 rad/s\"]"),
         "constraints.omega[1]",
         &[
             "the range of operating_point.omega",
@@ -198,7 +198,7 @@ fn constraint_bounds_and_the_depth_of_cut_take_the_operating_point_ranges() {
     let out = drillopt(
         &["solve"],
         dir.path(),
-        &edit(OMEGA, "omega = [\"30 rpm\", 1e12]"),
+        &edit(OMEGA, "omega = [\"30 rpm\", \"1e12 rad/s\"]"),
     );
     refused_by_binary(&out, &[FILE, "constraints.omega[1]", "[1, 1000] rpm"]);
 }
@@ -250,7 +250,7 @@ fn open_lower_ends_no_longer_admit_vanishing_values() {
         &["0 or in [0.1, 1000] m/h", "off-bottom"],
     );
     refused(
-        &add("model.pipe", "yield_strength = 1e-300"),
+        &add("model.pipe", "yield_strength = \"1e-300 Pa\""),
         "model.pipe.yield_strength",
         &["[10000000, 3000000000] Pa"],
     );
@@ -267,17 +267,17 @@ fn open_lower_ends_no_longer_admit_vanishing_values() {
         refused(&text, &format!("model.pipe.{key}"), &["[0.1, 1]"]);
     }
     refused(
-        &edit("rate = \"180 s/m\"", "rate = 1e-300"),
+        &edit("rate = \"180 s/m\"", "rate = \"1e-300 s/m\""),
         "model.bit.rate",
         &["[1, 100000] s/m"],
     );
     refused(
-        &edit("limit_force = \"250 kN\"", "limit_force = 1e-300"),
+        &edit("limit_force = \"250 kN\"", "limit_force = \"1e-300 N\""),
         "model.bit.limit_force",
         &["[1000, 5000000] N"],
     );
     refused(
-        &edit("gravity = \"9.81 m/s^2\"", "gravity = 1e-300"),
+        &edit("gravity = \"9.81 m/s^2\"", "gravity = \"1e-300 m/s^2\""),
         "model.gravity",
         &["0 or in [0.1, 30]"],
     );
@@ -295,7 +295,7 @@ fn open_lower_ends_no_longer_admit_vanishing_values() {
     let out = drillopt(
         &["simulate", "--quiet"],
         dir.path(),
-        &edit("rate = \"180 s/m\"", "rate = 1e-300"),
+        &edit("rate = \"180 s/m\"", "rate = \"1e-300 s/m\""),
     );
     refused_by_binary(&out, &[FILE, "model.bit.rate", "[1, 100000] s/m"]);
 }
@@ -321,4 +321,57 @@ fn every_shipped_problem_still_loads() {
         &mut n,
     );
     assert!(n >= 11);
+}
+
+/// Issue 33: `omega = 60` in a file ran at 572.96 rpm (read as rad/s) while the command line
+/// refuses `--omega 60`. A bare number for a quantity with a unit is refused in files too, with
+/// the SI spelling to write and the units accepted; zero needs no unit; dimensionless keys stay
+/// bare.
+#[test]
+fn a_bare_number_for_a_quantity_with_a_unit_is_refused() {
+    let m = refused(
+        &edit("omega = \"60 rpm\"", "omega = 60"),
+        "operating_point.omega",
+        &[
+            "needs its unit",
+            "\"60 rad/s\"",
+            "rpm",
+            "got the bare number 60",
+        ],
+    );
+    assert!(m.contains("angular velocity"), "{m}");
+    refused(
+        &edit("limit_force = \"250 kN\"", "limit_force = 250"),
+        "model.bit.limit_force",
+        &["needs its unit", "\"250 N\"", "kN", "lbf"],
+    );
+    // Every such key of the file in one pass.
+    let err = Problem::from_toml(
+        &edit("omega = \"60 rpm\"", "omega = 60").replace("length = \"8 m\"", "length = 8"),
+        Path::new(FILE),
+    )
+    .expect_err("refused");
+    let keys: Vec<String> = err.key_errors().iter().map(|e| e.key.clone()).collect();
+    assert!(
+        keys.contains(&"operating_point.omega".to_string())
+            && keys.contains(&"model.length".to_string()),
+        "{keys:?}"
+    );
+    // Through the binary: no run, the file and the key named, a non-zero exit status.
+    let dir = tempfile::tempdir().unwrap();
+    let out = drillopt(
+        &["simulate", "--duration", "0.01"],
+        dir.path(),
+        &edit("omega = \"60 rpm\"", "omega = 60"),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("key `operating_point.omega`") && stderr.contains("needs its unit"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("out").join("summary.json").exists());
+    // Dimensionless keys stay bare numbers.
+    Problem::from_toml(TINY, Path::new(FILE)).expect("the tiny string loads");
+    assert!(TINY.contains("poisson_ratio = 0.3"));
 }

@@ -102,9 +102,9 @@ fn uncertain_keys_are_those_of_the_chosen_law() {
             "{}\n[uncertain]\nsamples = 2\n[[uncertain.parameter]]\nkey = \"{key}\"\nlaw = \"gamma\"\nmean = {}\ncov = 0.1\n",
             text(),
             if key.ends_with("energy") {
-                "2e8"
+                "\"200 MPa\""
             } else {
-                "2.5e5"
+                "\"250 kN\""
             }
         )
     };

@@ -44,7 +44,7 @@ fn the_key_changes_with_everything_that_moves_a_simulation_and_nothing_else() {
             "wall law",
             base.replacen(
                 "cubic_stiffness = \"1e16 N/m^3\"\ndamping = 1e-9",
-                "law = \"hunt_crossley\"\nrestitution = 0.8\nimpact_speed = 0.1",
+                "law = \"hunt_crossley\"\nrestitution = 0.8\nimpact_speed = \"0.1 m/s\"",
                 1,
             ),
         ),

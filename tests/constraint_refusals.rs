@@ -72,10 +72,10 @@ fn inverted_bounds_are_echoed_in_the_units_typed() {
 
 #[test]
 fn a_start_point_outside_the_bounds_is_refused_in_rpm_and_m_per_h() {
-    // 80 rad/s = 764 rpm, a bare number read as SI.
+    // 80 rad/s = 764 rpm.
     let r = refusals(&edit(&[(
         "grid = [9, 9]",
-        "grid = [9, 9]\nstart = [80, \"5 m/h\"]",
+        "grid = [9, 9]\nstart = [\"80 rad/s\", \"5 m/h\"]",
     )]));
     assert_eq!(r.len(), 1, "{r:?}");
     assert_eq!(r[0].0, "optimizer.start");

@@ -92,7 +92,7 @@ static_corrections = false
     assert_eq!(cheap.study.optimizer, p.study.optimizer);
     assert_eq!(cheap.model, p.model);
     // Only the window given: the settling time is the full one's.
-    let p = load("[optimizer.explore]\nduration = 1.0\nconfirm = 5\nseparation = 0\n").unwrap();
+    let p = load("[optimizer.explore]\nduration = \"1 s\"\nconfirm = 5\nseparation = 0\n").unwrap();
     let e = p.study.explore.clone().unwrap();
     assert_eq!(e.confirm, 5);
     assert_eq!((e.max_confirm, e.separation), (10, 0.0));
@@ -100,11 +100,11 @@ static_corrections = false
     assert_eq!(e.apply(&p).simulation.settling_time, 0.5);
     let read = |extra: &str| load(extra).unwrap().study.explore.unwrap();
     assert_eq!(
-        read("[optimizer.explore]\nduration = 1.0\nconfirm = 40\n").max_confirm,
+        read("[optimizer.explore]\nduration = \"1 s\"\nconfirm = 40\n").max_confirm,
         50
     );
     let given = read(
-        "[optimizer.explore]\nduration = 1.0\nconfirm = 2\nmax_confirm = 9\nseparation = 0.2\n",
+        "[optimizer.explore]\nduration = \"1 s\"\nconfirm = 2\nmax_confirm = 9\nseparation = 0.2\n",
     );
     assert_eq!(
         (given.confirm, given.max_confirm, given.separation),
@@ -210,7 +210,7 @@ fn the_samples_override_must_stay_above_the_explore_samples() {
 fn confirm_is_checked_against_its_range() {
     for bad in ["0", "51", "-2"] {
         let e = error(&format!(
-            "[optimizer.explore]\nduration = 1.0\nconfirm = {bad}\n"
+            "[optimizer.explore]\nduration = \"1 s\"\nconfirm = {bad}\n"
         ));
         assert_names(
             &e,
@@ -228,7 +228,7 @@ fn confirm_is_checked_against_its_range() {
 fn max_confirm_and_separation_are_checked_against_their_ranges() {
     for (bad, range) in [("2", "[3, 50]"), ("51", "[3, 50]"), ("-1", "[3, 50]")] {
         let e = error(&format!(
-            "[optimizer.explore]\nduration = 1.0\nconfirm = 3\nmax_confirm = {bad}\n"
+            "[optimizer.explore]\nduration = \"1 s\"\nconfirm = 3\nmax_confirm = {bad}\n"
         ));
         assert_names(
             &e,
@@ -243,7 +243,7 @@ fn max_confirm_and_separation_are_checked_against_their_ranges() {
     }
     for bad in ["-0.1", "0.6", "nan", "inf"] {
         let e = error(&format!(
-            "[optimizer.explore]\nduration = 1.0\nseparation = {bad}\n"
+            "[optimizer.explore]\nduration = \"1 s\"\nseparation = {bad}\n"
         ));
         assert_names(
             &e,
@@ -270,7 +270,7 @@ threshold = 0
 max_probability = 0.5
 "#;
     let p = load(&format!(
-        "{chance}[optimizer.explore]\nduration = 1.0\nmargin = 0.1\n"
+        "{chance}[optimizer.explore]\nduration = \"1 s\"\nmargin = 0.1\n"
     ))
     .unwrap();
     let e = p.study.explore.clone().unwrap();
@@ -285,14 +285,17 @@ max_probability = 0.5
     assert_eq!(explore[1], 0.0);
     assert_eq!(thresholds(&p), [200e6, 0.0]);
     // The default: the thresholds as written.
-    let p = load(&format!("{chance}[optimizer.explore]\nduration = 1.0\n")).unwrap();
+    let p = load(&format!(
+        "{chance}[optimizer.explore]\nduration = \"1 s\"\n"
+    ))
+    .unwrap();
     let e = p.study.explore.clone().unwrap();
     assert_eq!(e.margin, 0.0);
     assert_eq!(thresholds(&e.apply(&p)), [200e6, 0.0]);
     // Out of range, or with nothing to tighten: refused, naming the key.
     for bad in ["-0.1", "0.6", "nan"] {
         let msg = error(&format!(
-            "{chance}[optimizer.explore]\nduration = 1.0\nmargin = {bad}\n"
+            "{chance}[optimizer.explore]\nduration = \"1 s\"\nmargin = {bad}\n"
         ));
         assert_names(
             &msg,
@@ -304,7 +307,7 @@ max_probability = 0.5
             ],
         );
     }
-    let msg = error("[optimizer.explore]\nduration = 1.0\nmargin = 0.1\n");
+    let msg = error("[optimizer.explore]\nduration = \"1 s\"\nmargin = 0.1\n");
     assert_names(
         &msg,
         &[
@@ -317,10 +320,10 @@ max_probability = 0.5
 
 #[test]
 fn refine_is_a_trust_region_budget_in_range() {
-    let p = load("[optimizer.explore]\nduration = 1.0\nrefine = 6\n").unwrap();
+    let p = load("[optimizer.explore]\nduration = \"1 s\"\nrefine = 6\n").unwrap();
     assert_eq!(p.study.explore.unwrap().refine, 6);
     assert_eq!(
-        load("[optimizer.explore]\nduration = 1.0\n")
+        load("[optimizer.explore]\nduration = \"1 s\"\n")
             .unwrap()
             .study
             .explore
@@ -331,7 +334,7 @@ fn refine_is_a_trust_region_budget_in_range() {
     );
     for bad in ["1001", "-1"] {
         let e = error(&format!(
-            "[optimizer.explore]\nduration = 1.0\nrefine = {bad}\n"
+            "[optimizer.explore]\nduration = \"1 s\"\nrefine = {bad}\n"
         ));
         assert_names(
             &e,
@@ -350,7 +353,7 @@ fn refine_is_a_trust_region_budget_in_range() {
         .filter(|l| !l.starts_with("start = ") && !l.starts_with("max_evaluations"))
         .map(|l| format!("{l}\n"))
         .collect::<String>();
-    let text = grid.clone() + "[optimizer.explore]\nduration = 1.0\nrefine = 4\n";
+    let text = grid.clone() + "[optimizer.explore]\nduration = \"1 s\"\nrefine = 4\n";
     let e = Problem::from_toml(&text, Path::new("explore.toml"))
         .unwrap_err()
         .to_string();
@@ -364,7 +367,7 @@ fn refine_is_a_trust_region_budget_in_range() {
     );
     assert!(
         Problem::from_toml(
-            &(grid + "[optimizer.explore]\nduration = 1.0\nrefine = 0\n"),
+            &(grid + "[optimizer.explore]\nduration = \"1 s\"\nrefine = 0\n"),
             Path::new("explore.toml")
         )
         .is_ok()
@@ -415,9 +418,9 @@ fn an_explore_section_that_saves_nothing_or_has_unknown_keys_is_refused() {
             "at least one of duration",
         ],
     );
-    let e = error("[optimizer.explore]\nsettling_time = 0.2\n");
+    let e = error("[optimizer.explore]\nsettling_time = \"0.2 s\"\n");
     assert_names(&e, &["optimizer.explore", "cheaper"]);
-    let e = error("[optimizer.explore]\nduration = 1.0\nwindow = 1.0\n");
+    let e = error("[optimizer.explore]\nduration = \"1 s\"\nwindow = \"1 s\"\n");
     assert_names(&e, &["explore.toml", "window"]);
 }
 

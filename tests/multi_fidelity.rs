@@ -347,8 +347,8 @@ fn explore_runs_have_their_own_cache_key_when_the_window_or_the_basis_differs() 
         );
         model_hash(&p.study.explore.as_ref().unwrap().apply(&p))
     };
-    let window = hash("[optimizer.explore]\nduration = 1.0\n");
-    let settling = hash("[optimizer.explore]\nduration = 1.0\nsettling_time = 0.2\n");
+    let window = hash("[optimizer.explore]\nduration = \"1 s\"\n");
+    let settling = hash("[optimizer.explore]\nduration = \"1 s\"\nsettling_time = \"0.2 s\"\n");
     let basis = hash("[optimizer.explore.basis]\nbending = 2\ntorsional = 2\naxial = 2\n");
     let samples = hash("[optimizer.explore]\nsamples = 2\n");
     let keys = [model_hash(&full), window, settling, basis];

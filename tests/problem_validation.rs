@@ -239,7 +239,7 @@ fn optional_keys_when_given_are_read() {
     assert_eq!(p.model.pipe.shear_factor, 1.0, "1 is in [0.1, 1]");
     let p = accepted(&set("model.pipe", "torsion_factor", "0.75"));
     assert_eq!(p.model.pipe.torsion_factor, 0.75);
-    let p = accepted(&set("simulation", "probes", "[0, \"17.5 m\", 35.0]"));
+    let p = accepted(&set("simulation", "probes", "[0, \"17.5 m\", \"35 m\"]"));
     assert_eq!(
         p.simulation.probes,
         vec![0.0, 17.5, 35.0],
@@ -260,7 +260,7 @@ fn units_convert_to_si() {
     assert_relative_eq!(omega("\"30rpm\""), PI, max_relative = 1e-14);
     assert_relative_eq!(omega("\"1.5 rev/s\""), 3.0 * PI, max_relative = 1e-14);
     assert_eq!(omega("\"5 rad/s\""), 5.0);
-    assert_eq!(omega("4.5"), 4.5, "a bare number is SI");
+    assert_eq!(omega("\"4.5 rad/s\""), 4.5);
 
     let v0 = |v: &str| {
         accepted(&set("operating_point", "v0", v))
@@ -270,7 +270,7 @@ fn units_convert_to_si() {
     assert_relative_eq!(v0("\"18 m/h\""), 0.005, max_relative = 1e-14);
     assert_relative_eq!(v0("\"3 mm/s\""), 0.003, max_relative = 1e-14);
     assert_relative_eq!(v0("\"0.6 m/min\""), 0.01, max_relative = 1e-14);
-    assert_eq!(v0("1e-3"), 1e-3);
+    assert_eq!(v0("\"1e-3 m/s\""), 1e-3);
 
     let p = accepted(&set("model.pipe", "inner_radius", "\"38.5 mm\""));
     assert_relative_eq!(p.model.pipe.inner_radius, 0.0385, max_relative = 1e-14);
@@ -620,7 +620,7 @@ fn a_negative_radius_is_refused() {
         &["must be in "],
     );
     refused(
-        &set("model.borehole", "radius", "-0.07"),
+        &set("model.borehole", "radius", "\"-0.07 m\""),
         "model.borehole.radius",
         &["must be in "],
     );
@@ -688,7 +688,7 @@ fn poisson_ratio_must_lie_in_minus_one_to_one_half() {
 #[test]
 fn a_negative_density_is_refused() {
     refused(
-        &set("model.pipe", "density", "-7900"),
+        &set("model.pipe", "density", "\"-7900 kg/m^3\""),
         "model.pipe.density",
         &["must be in "],
     );
@@ -751,7 +751,7 @@ fn negative_contact_and_bit_parameters_are_refused() {
         &["in [0, 100000000000000] N/m"],
     );
     refused(
-        &set("model.wall", "cubic_stiffness", "-1e16"),
+        &set("model.wall", "cubic_stiffness", "\"-1e16 N/m^3\""),
         "model.wall.cubic_stiffness",
         &["in [0, 10000000000000000000000] N/m3"],
     );
@@ -957,7 +957,7 @@ fn a_negative_rate_of_penetration_is_refused_and_zero_is_off_bottom() {
     let p = accepted(&set("operating_point", "v0", "\"0 m/h\""));
     assert_eq!(p.operating_point.v0, 0.0);
     refused(
-        &set("operating_point", "v0", "-1e-3"),
+        &set("operating_point", "v0", "\"-1e-3 m/s\""),
         "operating_point.v0",
         &[
             "must be 0 or in [0.1, 1000] m/h",
@@ -1007,7 +1007,7 @@ fn a_settling_time_not_shorter_than_the_duration_is_refused() {
         );
     }
     refused(
-        &set("simulation", "settling_time", "-1"),
+        &set("simulation", "settling_time", "\"-1 s\""),
         "simulation.settling_time",
         &["must be >= 0, got -1 s"],
     );
@@ -1021,7 +1021,7 @@ fn a_probe_outside_the_string_is_refused() {
         &["in [0, model.length = 35 m]"],
     );
     refused(
-        &set("simulation", "probes", "[\"20 m\", -0.5]"),
+        &set("simulation", "probes", "[\"20 m\", \"-0.5 m\"]"),
         "simulation.probes[1]",
         &["in [0, model.length = 35 m]"],
     );
@@ -1092,7 +1092,12 @@ fn physical_inputs_have_admissible_ranges() {
         ),
         ("model.wall", "friction", "1e308", "[0, 2]"),
         ("model.bit", "limit_force", "\"250 GN\"", "unknown unit"),
-        ("model.bit", "limit_force", "2.5e11", "[1000, 5000000] N"),
+        (
+            "model.bit",
+            "limit_force",
+            "\"2.5e11 N\"",
+            "[1000, 5000000] N",
+        ),
         // The operating point in the driller's units, not in rad/s and m/s with 17 digits.
         (
             "operating_point",

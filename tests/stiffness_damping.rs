@@ -30,7 +30,11 @@ fn load(text: &str) -> Result<Problem, ProblemError> {
 #[test]
 fn the_key_is_read_in_any_time_unit_and_refused_outside_its_range_by_name() {
     assert_eq!(load(&seed_text()).unwrap().model.stiffness_damping, 0.0);
-    for (value, beta) in [("\"10 us\"", 1e-5), ("\"0.01 ms\"", 1e-5), ("1e-5", 1e-5)] {
+    for (value, beta) in [
+        ("\"10 us\"", 1e-5),
+        ("\"0.01 ms\"", 1e-5),
+        ("\"1e-5 s\"", 1e-5),
+    ] {
         let p = load(&with_beta(value)).unwrap();
         assert!(
             (p.model.stiffness_damping / beta - 1.0).abs() < 1e-12,
@@ -40,7 +44,7 @@ fn the_key_is_read_in_any_time_unit_and_refused_outside_its_range_by_name() {
     }
     for (value, words) in [
         ("\"2 ms\"", "must be in [0, 0.001] s"),
-        ("-1e-6", "must be in [0, 0.001] s"),
+        ("\"-1e-6 s\"", "must be in [0, 0.001] s"),
         ("\"10 kg\"", "unknown unit"),
         ("\"nan s\"", "model.pipe.stiffness_damping"),
     ] {

@@ -311,6 +311,11 @@ impl<'a> Checker<'a> {
     /// A finite value in SI units (no range check); NaN, recorded, when it is not one.
     fn finite(&self, key: &str, raw: &RawQuantity, dim: Dimension) -> f64 {
         let v = match raw {
+            RawQuantity::Number(v)
+                if dim != Dimension::Dimensionless && v.is_finite() && *v != 0.0 =>
+            {
+                return self.record(key, bare_number(*v, dim));
+            }
             RawQuantity::Number(v) => *v,
             RawQuantity::Text(t) => match dim.parse(t) {
                 Ok(v) => v,
@@ -847,6 +852,23 @@ fn mesh(c: &Checker, m: &MeshSection) -> Result<Mesh, ProblemError> {
         (None, None) => BasisSpec::DEFAULT,
     };
     Ok(Mesh { elements, basis })
+}
+
+/// The refusal of a bare number for a quantity with a unit (issue 33: `omega = 60` ran at
+/// 572.96 rpm, read as rad/s, while the command line refuses `--omega 60`): the same number
+/// means different things in the units drilling uses (rpm or rad/s, m/h or m/s, kN or N, in or
+/// m), so the file must say which. Zero is zero in every unit and needs none.
+pub(super) fn bare_number(v: f64, dim: Dimension) -> String {
+    let units: Vec<&str> = dim.units().iter().map(|(u, _)| *u).take(6).collect();
+    format!(
+        "is {} and needs its unit: write it as a string, e.g. \"{} {}\" (SI), got the bare \
+         number {}; units accepted: {}",
+        dim.name(),
+        show(v),
+        dim.si_unit(),
+        show(v),
+        units.join(", ")
+    )
 }
 
 /// Highest cutoff frequency accepted for a family, Hz: far above anything the bit or the wall

@@ -176,33 +176,33 @@ mod tests {
 [model]
 length = "8 m"
 [model.pipe]
-density = 7900.0
-youngs_modulus = 203e9
+density = "7900 kg/m^3"
+youngs_modulus = "203 GPa"
 poisson_ratio = 0.3
-inner_radius = 0.04
-outer_radius = 0.06
-damping = 0.03
+inner_radius = "40 mm"
+outer_radius = "60 mm"
+damping = "0.03 1/s"
 [model.fluid]
-density = 1200.0
+density = "1200 kg/m^3"
 [model.borehole]
-radius = 0.07
+radius = "70 mm"
 [model.wall]
-stiffness = 1e10
-cubic_stiffness = 1e16
+stiffness = "1e10 N/m"
+cubic_stiffness = "1e16 N/m^3"
 damping = 1e-9
 friction = 1e-5
 [model.bit]
-limit_force = 250e3
-rate = 180.0
-friction = 0.04
+limit_force = "250 kN"
+rate = "180 s/m"
+friction = "0.04 m"
 [mesh]
 elements = 12
 [operating_point]
 omega = "60 rpm"
 v0 = "5 m/h"
 [simulation]
-duration = 1.0
-time_step = 0.01
+duration = "1 s"
+time_step = "10 ms"
 [uncertain]
 samples = 2
 seed = 7
