@@ -20,10 +20,14 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 15] = [
+const SHIPPED: [(&str, &str); 16] = [
     (
         "problems/regression/seed_power_limit.toml",
         include_str!("../problems/regression/seed_power_limit.toml"),
+    ),
+    (
+        "problems/regression/slim_pipe_autodriller.toml",
+        include_str!("../problems/regression/slim_pipe_autodriller.toml"),
     ),
     (
         "problems/seed_rgd.toml",

@@ -325,38 +325,58 @@ fn fatigue_limited_optimum_is_the_rotating_bending_damage_reaching_its_limit() {
             .threshold;
         let (ro, ri) = (p.model.pipe.outer_radius, p.model.pipe.inner_radius);
         let c_over_i = ro / (PI / 4.0 * (ro.powi(4) - ri.powi(4)));
-        // Along the depth-of-cut line Ω = 2π V0 / δ (−δ Ω + 2π V0 ≤ 0): below the range, above it.
-        let line = k
-            .linear
-            .iter()
-            .find(|c| c.label == "max_depth_of_cut")
-            .unwrap_or_else(|| panic!("{}: a depth-of-cut line expected", f.display()));
-        let depth = -line.omega * 2.0 * PI / line.v0;
+        // The line the optimum lies on, where the damage crosses its limit inside the expected
+        // ranges: the depth-of-cut line Ω = 2π V0 / δ (−δ Ω + 2π V0 ≤ 0), walked through the
+        // expected V0 range; or, without one, the autodriller's WOB-limit line (the bit cuts the
+        // depth the limit allows, ROP ∝ Ω), walked through the expected Ω range with the
+        // set-point at the top of the expected V0 range, above what the limit lets the bit drill
+        // there.
+        let points: Vec<(f64, f64)> = match k.linear.iter().find(|c| c.label == "max_depth_of_cut")
+        {
+            Some(line) => {
+                let depth = -line.omega * 2.0 * PI / line.v0;
+                e.v0.iter()
+                    .map(|&v0| (2.0 * PI * v0 / depth * 30.0 / PI * 1.0001, v0 * 3600.0))
+                    .collect()
+            }
+            None => {
+                assert!(
+                    matches!(p.model.top, drillopt::model::TopDrive::Autodriller(_)),
+                    "{}: a depth-of-cut line or an autodriller's WOB limit expected",
+                    f.display()
+                );
+                e.omega
+                    .iter()
+                    .map(|&w| (w * 30.0 / PI, e.v0[1] * 3600.0))
+                    .collect()
+            }
+        };
         let mut damage = Vec::new();
-        for v0 in e.v0 {
-            let omega = 2.0 * PI * v0 / depth;
-            let rpm = omega * 30.0 / PI * 1.0001;
-            let (d, moment) = worst_section(&f, rpm, v0 * 3600.0);
+        for (rpm, m_per_h) in points {
+            let omega = rpm * PI / 30.0;
+            let (d, moment) = worst_section(&f, rpm, m_per_h);
             let range_mpa = 2.0 * scf * moment * c_over_i / 1e6;
             let per_hour = omega / (2.0 * PI) * 3600.0;
             let closed = per_hour * range_mpa.powf(*m) / 10f64.powf(*log_a);
             assert!(
                 (d / closed - 1.0).abs() < 0.15,
-                "{}: at {rpm:.1} rpm, {:.2} m/h the simulated damage {d:.4}/h vs Miner's {closed:.4}/h \
-                 (M = {moment:.0} N·m, Δσ = {range_mpa:.0} MPa)",
-                f.display(),
-                v0 * 3600.0
+                "{}: at {rpm:.1} rpm, {m_per_h:.2} m/h the simulated damage {d:.4}/h vs Miner's \
+                 {closed:.4}/h (M = {moment:.0} N·m, Δσ = {range_mpa:.0} MPa)",
+                f.display()
             );
             damage.push(d);
         }
         assert!(
             damage[0] < threshold && threshold < damage[1],
-            "{}: the limit {threshold}/h is not crossed inside the expected V0 range: {damage:?}",
+            "{}: the limit {threshold}/h is not crossed inside the expected range: {damage:?}",
             f.display()
         );
         checked += 1;
     }
-    assert!(checked >= 1, "no fatigue-limited problem in the set");
+    assert!(
+        checked >= 2,
+        "the fatigue-limited problems of the set: {checked}"
+    );
 }
 
 /// `[expect] active` is refused, naming the file and the key, when it names no constraint of the
