@@ -279,6 +279,32 @@ fn an_autodriller_at_its_wob_limit_drills_at_the_rop_the_rock_allows() {
     );
     assert!((mean(s, &s.top_force, 0.2, 1.0) / SET_POINT - 1.0).abs() < 1e-5);
 
+    // The bit's negative damping is that of the feed it drills, not of the set-point: Detournay's
+    // torque ½εa² · 2πV/√(Ω² + ω_r²) (+ the flats' part, which does not depend on Ω) weakens
+    // with Ω at the rate ½εa² · 2πV Ω/(Ω² + ω_r²)^(3/2), over the pipe's torsional impedance
+    // J √(Gρ) (St Venant torsion, κ_t = 1).
+    let config =
+        drillopt::metrics::MetricsConfig::new(op.omega, op.v0, 0.07, 0.2).with_top(m.string.top);
+    let metrics = drillopt::metrics::of_run(&out, &config, None)
+        .unwrap()
+        .with_drilled_bit_damping_ratio(&m.string, op);
+    let ratio_at = |v: f64| {
+        use raw::*;
+        let w = omega();
+        let slope = 0.5 * EPS * A * A * 2.0 * PI * v * w / (w * w + OMEGA_R * OMEGA_R).powf(1.5);
+        let g = 203e9 / (2.0 * 1.3);
+        let j = 0.5 * PI * (R_EXT.powi(4) - R_INT.powi(4));
+        slope / (j * (g * RHO).sqrt())
+    };
+    let drilled = ratio_at(expected);
+    assert!(
+        (metrics.bit_damping_ratio / drilled - 1.0).abs() < 1e-3,
+        "{} against {drilled} at the ROP drilled ({} at the set-point)",
+        metrics.bit_damping_ratio,
+        ratio_at(op.v0)
+    );
+    assert!(ratio_at(op.v0) > 1.4 * drilled);
+
     // From rest, the block speeds up to V0 until the WOB reaches its limit, then the integral
     // law brings it down to the rock's ROP and holds the WOB there.
     let out = simulate(

@@ -270,15 +270,12 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         ),
         Err(e) => (None, Some(e.to_string())),
     };
-    let damping_ratio = crate::model::bit_damping_ratio(&problem.model, op);
+    let metrics = metrics.map(|x| x.with_drilled_bit_damping_ratio(&problem.model, op));
     let metrics = match margin {
-        Ok(m) => metrics.map(|x| {
-            x.with_critical_speed_margin(m)
-                .with_bit_damping_ratio(damping_ratio)
-        }),
+        Ok(m) => metrics.map(|x| x.with_critical_speed_margin(m)),
         Err(e) => {
             metrics_error.get_or_insert(format!("critical_speed_margin: {e}"));
-            metrics.map(|x| x.with_bit_damping_ratio(damping_ratio))
+            metrics
         }
     };
     // A window too short to batch keeps its metrics and goes without intervals.

@@ -300,7 +300,8 @@ pub struct Metrics {
     /// mass-proportional damping alone the response is set by the shortest torsional waves the
     /// model holds and no basis converges; a stiffness-proportional damping
     /// (`[model.pipe] stiffness_damping`) bounds them (README, "Converged model"). It depends on
-    /// the model and the operating point only. NaN when not computed.
+    /// the model and the operating point, and under a free top on the mean ROP drilled (taken as
+    /// the bit's feed: [`Self::with_drilled_bit_damping_ratio`]). NaN when not computed.
     pub bit_damping_ratio: f64,
     /// Time-weighted mean torque the top drive applies to turn the string at Ω (the surface
     /// torque), N·m: the torque on bit plus the wall friction and damping along the string
@@ -421,6 +422,27 @@ impl Metrics {
     pub fn with_bit_damping_ratio(mut self, ratio: f64) -> Self {
         self.bit_damping_ratio = ratio;
         self
+    }
+
+    /// These metrics with `bit_damping_ratio` = [`crate::model::bit_damping_ratio`] of `string`
+    /// at the feed its bit drills: V0 under the imposed feed; under a free top (hook load,
+    /// autodriller) the run's mean ROP, not the set-point V0, which a limit may keep the bit
+    /// from drilling (the ratio of a rate law grows with the feed: on the slim pipe of
+    /// `slim_pipe_autodriller.toml` at 30 rpm and a 20 m/h set-point the bit drills 2.68 m/h,
+    /// and the ratio taken at V0 read 21 on a steady run).
+    pub fn with_drilled_bit_damping_ratio(
+        self,
+        string: &crate::model::Drillstring,
+        op: crate::model::OperatingPoint,
+    ) -> Self {
+        let v0 = if string.top.is_feed() {
+            op.v0
+        } else {
+            crate::units::from_m_per_h(self.mean_rop_m_per_h).max(0.0)
+        };
+        let ratio =
+            crate::model::bit_damping_ratio(string, crate::model::OperatingPoint { v0, ..op });
+        self.with_bit_damping_ratio(ratio)
     }
 
     /// Every metric with its `summary.json` key, in the catalogue's order ([`METRICS`]), values

@@ -411,7 +411,7 @@ impl<'a> RobustEvaluator<'a> {
         match metrics::of_run(&out, &config, model.string.pipe.yield_strength) {
             Ok(m) => SampleOutcome::Metrics(metric_map(
                 &m.with_critical_speed_margin(self.critical_speed_margin(index, op.omega))
-                    .with_bit_damping_ratio(crate::model::bit_damping_ratio(&model.string, op)),
+                    .with_drilled_bit_damping_ratio(&model.string, op),
             )),
             Err(e) => SampleOutcome::Failed(format!("metrics: {e}")),
         }

@@ -395,7 +395,10 @@ pub fn verify_with(
         .find(|(r, _)| r.name == Refinement::Basis.name())
         .map_or(base_run.basis, |(r, _)| r.basis);
     Ok(VerifyReport {
-        bit_damping_ratio: crate::model::bit_damping_ratio(&problem.model, settings.op),
+        bit_damping_ratio: base_metrics
+            .clone()
+            .with_drilled_bit_damping_ratio(&problem.model, settings.op)
+            .bit_damping_ratio,
         window_s: window,
         window_revolutions: settings.op.omega * window / (2.0 * std::f64::consts::PI),
         converged: verdicts.values().all(|v| v.converged),
@@ -492,7 +495,7 @@ fn run_variant(
         );
         metrics = metrics
             .with_critical_speed_margin(margin.unwrap_or(f64::NAN))
-            .with_bit_damping_ratio(crate::model::bit_damping_ratio(&problem.model, op));
+            .with_drilled_bit_damping_ratio(&problem.model, op);
     }
     Ok((
         VerifyRun {
