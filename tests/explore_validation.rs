@@ -128,21 +128,23 @@ fn an_explore_window_must_be_shorter_with_its_settling_inside() {
     );
     let e = error("[optimizer.explore]\nduration = \"1.5 s\"\n");
     assert_names(&e, &["optimizer.explore.duration", "shorter than"]);
-    // The full settling (0.5 s) would not fit in a 0.4 s window.
-    let e = error("[optimizer.explore]\nduration = \"0.4 s\"\n");
+    // The full settling (0.5 s) would take more than half of a 0.9 s window.
+    let e = error("[optimizer.explore]\nduration = \"0.9 s\"\n");
     assert_names(
         &e,
         &[
             "optimizer.explore.duration",
-            "longer than simulation.settling_time (0.5 s)",
+            "at least twice simulation.settling_time (0.5 s)",
             "optimizer.explore.settling_time",
         ],
     );
-    let e = error("[optimizer.explore]\nduration = \"0.8 s\"\nsettling_time = \"0.8 s\"\n");
+    let e = error("[optimizer.explore]\nduration = \"0.8 s\"\nsettling_time = \"0.5 s\"\n");
     assert_names(
         &e,
-        &["optimizer.explore.settling_time", "[0, 0.8 s)", "got 0.8 s"],
+        &["optimizer.explore.settling_time", "[0, 0.4 s]", "got 0.5 s"],
     );
+    // Exactly half is allowed.
+    load("[optimizer.explore]\nduration = \"1 s\"\n").unwrap();
     let e = error("[optimizer.explore]\nduration = \"-1 s\"\n");
     assert_names(
         &e,

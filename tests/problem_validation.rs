@@ -998,14 +998,17 @@ fn a_time_step_longer_than_the_duration_is_refused() {
 }
 
 #[test]
-fn a_settling_time_not_shorter_than_the_duration_is_refused() {
-    for v in ["\"90 s\"", "\"2 min\""] {
+fn a_settling_time_longer_than_half_the_duration_is_refused() {
+    // It was silently cut to half the run (issue 33 item 8); both keys are named.
+    for v in ["\"46 s\"", "\"90 s\"", "\"2 min\""] {
         refused(
             &set("simulation", "settling_time", v),
             "simulation.settling_time",
-            &["shorter than simulation.duration"],
+            &["at most half of simulation.duration (90 s)"],
         );
     }
+    let p = accepted(&set("simulation", "settling_time", "\"45 s\""));
+    assert_eq!(p.simulation.settling_time, 45.0, "half the run is allowed");
     refused(
         &set("simulation", "settling_time", "\"-1 s\""),
         "simulation.settling_time",

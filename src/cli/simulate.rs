@@ -161,6 +161,17 @@ pub(super) fn point_and_duration(
         Dimension::Time,
         problem.simulation.duration,
     )?;
+    let settling = problem.simulation.settling_for(duration);
+    if settling < problem.simulation.settling_time {
+        // A caution, not an error (short runs are how a file is tried out): printed even with
+        // --quiet, since the metrics then include part of what the file discards.
+        eprintln!(
+            "warning: --duration {} s is shorter than twice simulation.settling_time ({} s): the \
+             analysis window starts at {} s, half the run, and holds part of what the file's \
+             settling time discards",
+            duration, problem.simulation.settling_time, settling
+        );
+    }
     Ok((op, duration))
 }
 
@@ -223,7 +234,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         problem.simulation.sample_interval,
         duration,
     )?;
-    let settling = problem.simulation.settling_time.min(0.5 * duration);
+    let settling = problem.simulation.settling_for(duration);
     let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling)
         .with_top(problem.model.top);
     // Every accepted step goes to the metrics; the written history (streamed to disk, and kept

@@ -54,7 +54,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
     let settings = VerifySettings {
         op,
         duration,
-        settling: problem.simulation.settling_time.min(0.5 * duration),
+        settling: problem.simulation.settling_for(duration),
     };
     let mut refinements = verify::refinements(&problem);
     if args.unreduced {

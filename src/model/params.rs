@@ -170,6 +170,16 @@ pub struct Simulation {
     pub sample_interval: SampleInterval,
 }
 
+impl Simulation {
+    /// The settling time of a run of `duration` seconds, s: `settling_time`, but at most half the
+    /// run, so that the analysis window is never shorter than what it discards (a file's own
+    /// duration always keeps its settling time: validation refuses more than half; a shorter
+    /// `--duration` on the command line cuts it, and `simulate` and `verify` say so).
+    pub fn settling_for(&self, duration: f64) -> f64 {
+        self.settling_time.min(0.5 * duration)
+    }
+}
+
 /// What a run writes out: every accepted step, or the states at a fixed interval.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]

@@ -956,8 +956,11 @@ fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulat
             c.check(
                 "simulation.settling_time",
                 t,
-                t < duration || duration.is_nan(),
-                &format!("shorter than simulation.duration ({duration} s)"),
+                t <= 0.5 * duration || duration.is_nan(),
+                &format!(
+                    "at most half of simulation.duration ({duration} s): the metrics are read \
+                     over the window after it, which must be no shorter than what it discards"
+                ),
                 Time,
             )?
         }

@@ -216,24 +216,24 @@ fn window(
     });
     let window_end = duration.unwrap_or(full);
     match settling {
-        Some(t) if !t.is_nan() && !window_end.is_nan() && t >= window_end => {
+        Some(t) if !t.is_nan() && !window_end.is_nan() && t > 0.5 * window_end => {
             c.record(
                 &key("settling_time"),
                 format!(
-                    "must be in [0, {} s), shorter than the explore duration (the metrics are read after it), got {} s",
-                    short(window_end),
+                    "must be in [0, {} s], at most half the explore duration (the metrics are read over the window after it, which must be no shorter), got {} s",
+                    short(0.5 * window_end),
                     short(t)
                 ),
             );
         }
         None if duration.is_some_and(|d| !d.is_nan())
             && !full_settling.is_nan()
-            && full_settling >= window_end =>
+            && full_settling > 0.5 * window_end =>
         {
             c.record(
                 &key("duration"),
                 format!(
-                    "must be longer than simulation.settling_time ({} s), which the explore window keeps unless optimizer.explore.settling_time is given, got {} s",
+                    "must be at least twice simulation.settling_time ({} s), which the explore window keeps unless optimizer.explore.settling_time is given, got {} s",
                     short(full_settling),
                     short(window_end)
                 ),

@@ -1167,7 +1167,7 @@ pub fn run_model_into<S: Sink>(
 ) -> RunOutput<S> {
     let mut settings = RunSettings::new(duration, problem.simulation.time_step);
     settings.probes = problem.simulation.probes.clone();
-    settings.envelope_from = problem.simulation.settling_time.min(0.5 * duration);
+    settings.envelope_from = problem.simulation.settling_for(duration);
     simulate_into(
         model,
         op,

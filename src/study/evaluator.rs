@@ -126,7 +126,7 @@ fn run_settings(problem: &Problem) -> RunSettings {
     let sim = &problem.simulation;
     let mut settings = RunSettings::new(sim.duration, sim.time_step);
     settings.probes = sim.probes.clone();
-    settings.envelope_from = sim.settling_time.min(0.5 * sim.duration);
+    settings.envelope_from = sim.settling_for(sim.duration);
     settings
 }
 
@@ -405,7 +405,7 @@ impl<'a> RobustEvaluator<'a> {
             return SampleOutcome::Failed(e.to_string());
         }
         let sim = &self.problem.simulation;
-        let settling = sim.settling_time.min(0.5 * sim.duration);
+        let settling = sim.settling_for(sim.duration);
         let config = MetricsConfig::new(op.omega, op.v0, model.string.borehole_radius, settling)
             .with_top(model.string.top);
         match metrics::of_run(&out, &config, model.string.pipe.yield_strength) {
