@@ -291,6 +291,11 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     };
     // A window too short to batch keeps its metrics and goes without intervals.
     let confidence_95 = online.batch_intervals();
+    // Cheap beside the run (one more steady state and the eigenvalues of a matrix of twice the
+    // basis' size); the model the run used.
+    let steady_state = sim::steady_stability(&model, op, sim::Effects::ALL)
+        .ok()
+        .flatten();
     let summary = SummaryJson {
         record: ProblemRecord::of(&problem, &args.problem),
         operating_point: report::PointJson::at(op),
@@ -311,6 +316,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         metrics,
         confidence_95,
         metrics_error,
+        steady_state,
         solver: &output.stats,
     };
     report::write_json_atomic(&out.join("summary.json"), &summary)?;
@@ -341,6 +347,9 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         problem.model.top,
     );
     if let Some(w) = depth_of_cut_warning(&problem.model) {
+        eprintln!("{w}");
+    }
+    if let Some(w) = steady_state_warning(steady_state, settling, duration) {
         eprintln!("{w}");
     }
     if let Some(e) = &output.error {
@@ -380,6 +389,40 @@ pub(super) fn depth_of_cut_warning(string: &crate::model::Drillstring) -> Option
 /// `stiffness_damping`: the model's β, s; with none (or one below the evidence of
 /// [`CONVERGED_STIFFNESS_DAMPING`], to round-off: `"10 us"` reads as 9.999999999999999e-6 s) a
 /// bit_damping_ratio above 1 draws a warning.
+/// Round-off that an unstable steady state amplifies, relative (the start's own error).
+const ROUND_OFF: f64 = 1e-12;
+
+/// The caution for an unstable steady state whose growth out of round-off outlasts the settling
+/// time: the window may read the steady state as the long run. `None` when stable, not computed,
+/// or grown before the window starts.
+pub(super) fn steady_state_warning(
+    s: Option<sim::SteadyStability>,
+    settling: f64,
+    duration: f64,
+) -> Option<String> {
+    let s = s.filter(|s| s.unstable())?;
+    let grown = s.growth_time(1.0 / ROUND_OFF);
+    if grown <= settling {
+        return None;
+    }
+    Some(format!(
+        "warning: steady drilling is unstable here: the linearised equations' dominant eigenvalue \
+         grows at {:.3} 1/s ({:.1} Hz), so a disturbance doubles every {:.3} s and round-off \
+         ({ROUND_OFF:e}) reaches the response's own size after about {:.1} s{}; the run starts on \
+         the steady state, and a window that ends before the growth reads it as the long run \
+         (README, \"Linear stability of steady drilling\")",
+        s.growth_rate_per_s,
+        s.frequency_hz,
+        s.growth_time(2.0),
+        grown,
+        if grown > duration {
+            format!(", later than this {duration} s run")
+        } else {
+            String::new()
+        }
+    ))
+}
+
 fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDrive) {
     let st = s.solver;
     // A run that stopped early did not simulate its duration: say so (the error follows).
@@ -499,6 +542,17 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDr
             tob.half_width / 1e3,
             top.half_width / 1e3
         );
+    }
+    match s.steady_state {
+        Some(st) if st.unstable() => println!(
+            "  steady state: UNSTABLE, grows at {:.3} 1/s ({:.1} Hz; the dominant eigenvalue of the linearised equations)",
+            st.growth_rate_per_s, st.frequency_hz
+        ),
+        Some(st) => println!(
+            "  steady state: stable, the slowest decay {:.3} 1/s ({:.1} Hz; the dominant eigenvalue of the linearised equations)",
+            -st.growth_rate_per_s, st.frequency_hz
+        ),
+        None => {}
     }
     println!("  results in {}", out.display());
 }

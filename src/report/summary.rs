@@ -45,5 +45,9 @@ pub struct SummaryJson<'a> {
     pub confidence_95:
         Option<std::collections::BTreeMap<&'static str, crate::metrics::BatchInterval>>,
     pub metrics_error: Option<String>,
+    /// The dominant eigenvalue of steady drilling at the operating point
+    /// ([`crate::sim::steady_stability`]); null for a depth-of-cut bit (a delay equation) or a
+    /// steady state that could not be found.
+    pub steady_state: Option<crate::sim::SteadyStability>,
     pub solver: &'a crate::sim::SolverStats,
 }

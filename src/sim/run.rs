@@ -755,13 +755,13 @@ fn bordered(
 /// The system a run integrates: the string under the imposed feed, or with the block free.
 // One per run, on the stack of the run: the variants' sizes do not matter.
 #[allow(clippy::large_enum_variant)]
-enum Driven<'m> {
+pub(super) enum Driven<'m> {
     Feed(Dynamics<'m>),
     Free(FreeTop<'m>),
 }
 
 impl<'m> Driven<'m> {
-    fn new(model: &'m ReducedModel, op: OperatingPoint, effects: Effects) -> Self {
+    pub(super) fn new(model: &'m ReducedModel, op: OperatingPoint, effects: Effects) -> Self {
         let dynamics = Dynamics::new(model, op, effects);
         match model.string.top {
             crate::model::TopDrive::Feed => Driven::Feed(dynamics),
