@@ -334,16 +334,29 @@ fn a_bare_number_for_a_quantity_with_a_unit_is_refused() {
         "operating_point.omega",
         &[
             "needs its unit",
-            "\"60 rad/s\"",
-            "rpm",
-            "got the bare number 60",
+            "\"60 rad/s\" or \"60 rpm\"",
+            "write the one meant",
         ],
     );
     assert!(m.contains("angular velocity"), "{m}");
+    // Quoted, it is the same ambiguity (a fresh user's `omega = "60"` ran at 572.96 rpm).
+    refused(
+        &edit("omega = \"60 rpm\"", "omega = \"60\""),
+        "operating_point.omega",
+        &["needs its unit", "\"60 rad/s\" or \"60 rpm\""],
+    );
+    // "0" needs no unit, quoted or not.
+    assert_eq!(
+        Problem::from_toml(&edit("v0 = \"5 m/h\"", "v0 = \"0\""), Path::new(FILE))
+            .unwrap()
+            .operating_point
+            .v0,
+        0.0
+    );
     refused(
         &edit("limit_force = \"250 kN\"", "limit_force = 250"),
         "model.bit.limit_force",
-        &["needs its unit", "\"250 N\"", "kN", "lbf"],
+        &["needs its unit", "\"250 N\" or \"250 kN\"", "lbf"],
     );
     // Every such key of the file in one pass.
     let err = Problem::from_toml(

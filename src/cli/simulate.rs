@@ -508,9 +508,10 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDr
         if let Some(w) = yield_warning(m) {
             eprintln!("{w}");
         }
-        // The ratio is the rate law's slope at the imposed feed V0; an autodriller that holds its
-        // WOB limit most of the window fixes the depth of cut, and the law's torque no longer
-        // falls with the spin (README, "The driller's top"): no warning then.
+        // The ratio is the rate law's slope at the feed the bit drills (V0, or the mean ROP of a
+        // free top); an autodriller that holds its WOB limit most of the window fixes the depth of
+        // cut, and the law's torque no longer falls with the spin (README, "The driller's top"):
+        // no warning then.
         let held = matches!(top, TopDrive::Autodriller(_)) && m.wob_limit_fraction > 0.5;
         let negative = m.bit_damping_ratio > 1.0 && !held;
         if negative && stiffness_damping == 0.0 {

@@ -317,6 +317,14 @@ impl<'a> Checker<'a> {
                 return self.record(key, bare_number(*v, dim));
             }
             RawQuantity::Number(v) => *v,
+            // A quoted number with no unit ("60") is the same ambiguity as a bare one.
+            RawQuantity::Text(t) if dim != Dimension::Dimensionless && unitless(t) => {
+                let v = dim.parse(t).unwrap_or(f64::NAN);
+                if v != 0.0 {
+                    return self.record(key, bare_number(v, dim));
+                }
+                v
+            }
             RawQuantity::Text(t) => match dim.parse(t) {
                 Ok(v) => v,
                 Err(e) => return self.record(key, e.to_string()),
@@ -859,16 +867,26 @@ fn mesh(c: &Checker, m: &MeshSection) -> Result<Mesh, ProblemError> {
 /// means different things in the units drilling uses (rpm or rad/s, m/h or m/s, kN or N, in or
 /// m), so the file must say which. Zero is zero in every unit and needs none.
 pub(super) fn bare_number(v: f64, dim: Dimension) -> String {
-    let units: Vec<&str> = dim.units().iter().map(|(u, _)| *u).take(6).collect();
+    let units: Vec<&str> = dim.units().iter().map(|(u, _)| *u).collect();
+    // Two spellings, the SI one and the next: the number alone means either (60 rad/s or 60 rpm).
+    let examples: Vec<String> = units
+        .iter()
+        .take(2)
+        .map(|u| format!("\"{} {u}\"", show(v)))
+        .collect();
     format!(
-        "is {} and needs its unit: write it as a string, e.g. \"{} {}\" (SI), got the bare \
-         number {}; units accepted: {}",
+        "is {} and needs its unit: the number {} alone could be {}; write the one meant, as a \
+         string with one of the units {}",
         dim.name(),
         show(v),
-        dim.si_unit(),
-        show(v),
+        examples.join(" or "),
         units.join(", ")
     )
+}
+
+/// Whether `text` is a number with no unit (`"60"`, `" 1_000 "`).
+fn unitless(text: &str) -> bool {
+    text.trim().replace('_', "").parse::<f64>().is_ok()
 }
 
 /// Highest cutoff frequency accepted for a family, Hz: far above anything the bit or the wall

@@ -91,6 +91,11 @@ impl Dimension {
                 ("km", 1e3),
                 ("in", 0.0254),
                 ("ft", 0.3048),
+                // Spellings of field reports (issue 33 item 7).
+                ("inch", 0.0254),
+                ("inches", 0.0254),
+                ("foot", 0.3048),
+                ("feet", 0.3048),
             ],
             Dimension::Time => &[
                 ("s", 1.0),
@@ -107,6 +112,8 @@ impl Dimension {
                 ("m/min", 1.0 / 60.0),
                 ("m/h", super::M_S_PER_M_PER_H),
                 ("ft/h", 0.3048 / 3600.0),
+                ("m/hr", super::M_S_PER_M_PER_H),
+                ("ft/hr", 0.3048 / 3600.0),
             ],
             Dimension::AngularVelocity => &[
                 ("rad/s", 1.0),
@@ -120,6 +127,10 @@ impl Dimension {
                 ("MN", 1e6),
                 ("lbf", LBF_N),
                 ("klbf", 1e3 * LBF_N),
+                // A kip is 1000 lbf; "klb" is the field's spelling of the same.
+                ("kip", 1e3 * LBF_N),
+                ("kips", 1e3 * LBF_N),
+                ("klb", 1e3 * LBF_N),
             ],
             Dimension::Pressure => &[
                 ("Pa", 1.0),
@@ -136,6 +147,7 @@ impl Dimension {
                 ("g/cm^3", 1e3),
                 ("ppg", PPG_KG_M3),
                 ("sg", 1e3),
+                ("lb/gal", PPG_KG_M3),
             ],
             Dimension::Acceleration => &[("m/s2", 1.0), ("m/s^2", 1.0)],
             Dimension::Rate => &[
@@ -145,7 +157,7 @@ impl Dimension {
                 ("1/h", 1.0 / 3600.0),
             ],
             Dimension::Frequency => &[("Hz", 1.0), ("kHz", 1e3)],
-            Dimension::InverseVelocity => &[("s/m", 1.0)],
+            Dimension::InverseVelocity => &[("s/m", 1.0), ("s/ft", 1.0 / 0.3048)],
             Dimension::Stiffness => &[("N/m", 1.0), ("kN/m", 1e3), ("MN/m", 1e6)],
             Dimension::CubicStiffness => &[("N/m3", 1.0), ("N/m^3", 1.0)],
             Dimension::MomentOfInertia => &[
@@ -324,11 +336,7 @@ impl UnitError {
         let allowed = if units.is_empty() {
             "a plain number".to_string()
         } else {
-            format!(
-                "a number (in {}) or a string with one of the units {}",
-                dim.si_unit(),
-                units.join(", ")
-            )
+            format!("a number with one of the units {}", units.join(", "))
         };
         UnitError {
             text: text.to_string(),
@@ -487,5 +495,36 @@ mod tests {
             "{err}"
         );
         assert!(Dimension::Dimensionless.parse("3 m").is_err());
+    }
+
+    /// The spellings of field reports (issue 33 item 7) read as their canonical units.
+    #[test]
+    fn field_spellings_are_read() {
+        let close = |a: f64, b: f64| assert_relative_eq!(a, b, max_relative = 1e-15);
+        close(Dimension::Length.parse("300 feet").unwrap(), 91.44);
+        close(Dimension::Length.parse("1 foot").unwrap(), 0.3048);
+        close(Dimension::Length.parse("8.5 inches").unwrap(), 8.5 * 0.0254);
+        close(
+            Dimension::Velocity.parse("60 ft/hr").unwrap(),
+            Dimension::Velocity.parse("60 ft/h").unwrap(),
+        );
+        close(
+            Dimension::Velocity.parse("20 m/hr").unwrap(),
+            Dimension::Velocity.parse("20 m/h").unwrap(),
+        );
+        for k in ["kip", "kips", "klb"] {
+            close(
+                Dimension::Force.parse(&format!("25 {k}")).unwrap(),
+                25e3 * 0.453_592_37 * 9.806_65,
+            );
+        }
+        close(
+            Dimension::Density.parse("10 lb/gal").unwrap(),
+            Dimension::Density.parse("10 ppg").unwrap(),
+        );
+        close(
+            Dimension::InverseVelocity.parse("100 s/ft").unwrap(),
+            100.0 / 0.3048,
+        );
     }
 }
