@@ -326,7 +326,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         report::plot_bit_axial(s, &op, &out.join("bit_axial.svg"))?;
         report::plot_bit_rotation(s, &op, &out.join("bit_rotation.svg"))?;
         for (k, x) in s.probe_positions.iter().enumerate() {
-            let name = format!("radial_x{}m.svg", x);
+            let name = format!("radial_x{}m.svg", report::probe_label(*x));
             report::plot_probe_radial(s, k, problem.model.gap(), &op, &out.join(name))?;
         }
         let envelope = &output.envelope;

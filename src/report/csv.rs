@@ -72,9 +72,17 @@ fn columns(s: &TimeSeries) -> Vec<(String, Values<'_>)> {
     cols
 }
 
-/// `radial_x{position}m_m`: radial displacement (m) at the probe at x = `position` m.
+/// `radial_x{position}m_m`: radial displacement (m) at the probe at x = `position` m (the
+/// position as [`probe_label`] writes it).
 pub fn probe_column_name(position: f64) -> String {
-    format!("radial_x{position}m_m")
+    format!("radial_x{}m_m", probe_label(position))
+}
+
+/// A probe position in m for names, to the millimetre without trailing zeros: `"20"`, `"12.5"`,
+/// `"914.4"` for "3000 ft" (whose double prints as 914.4000000000001; issue 33 item 8).
+pub fn probe_label(position: f64) -> String {
+    let s = format!("{position:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// The whole series as CSV text (header row, then one row per sample, `\n` line ends).
@@ -446,5 +454,14 @@ mod tests {
                 .contains(&dir.path().join("f").display().to_string()),
             "{e}"
         );
+    }
+
+    #[test]
+    fn probe_labels_are_rounded_to_the_millimetre() {
+        assert_eq!(probe_label(20.0), "20");
+        assert_eq!(probe_label(12.5), "12.5");
+        assert_eq!(probe_label(3000.0 * 0.3048), "914.4");
+        assert_eq!(probe_label(0.0), "0");
+        assert_eq!(probe_column_name(3000.0 * 0.3048), "radial_x914.4m_m");
     }
 }

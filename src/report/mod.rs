@@ -30,7 +30,7 @@ pub use campbell::{
     CampbellJson, CampbellModeJson, CampbellPlot, CampbellPointJson, LinearisationJson,
     plot_campbell,
 };
-pub use csv::{CsvStream, probe_column_name, timeseries_csv, write_timeseries_csv};
+pub use csv::{CsvStream, probe_column_name, probe_label, timeseries_csv, write_timeseries_csv};
 pub use envelope::{envelope_csv, plot_stress_envelope, write_envelope_csv};
 pub use evaluations_csv::{evaluations_csv, write_evaluations_csv};
 pub use fidelity_json::{
