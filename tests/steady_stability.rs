@@ -171,3 +171,59 @@ fn simulate_reports_the_steady_state_and_warns_when_the_window_may_miss_its_grow
         .unwrap();
     assert!((rate - 1.073).abs() < 1e-3, "{rate}");
 }
+
+/// A study can ask for stable drilling: a chance constraint on `steady_growth_rate_per_s`. On
+/// seed_power_limit.toml the steady state is unstable where the autodriller holds its WOB limit
+/// (101.5 rpm, 17.07 m/h: 1.07 1/s) and stable below the limit line (120 rpm, 10 m/h: the slowest
+/// decay 0.013 1/s), so `compare` finds the first infeasible and the second feasible.
+#[test]
+fn a_chance_constraint_keeps_a_study_on_stable_steady_states() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/regression/seed_power_limit.toml"
+    ))
+    .unwrap()
+    .replace(
+        "[constraints]\n",
+        "[[constraints.chance]]\nmetric = \"steady_growth_rate_per_s\"\nthreshold = \"0 1/s\"\nmax_probability = 0.1\n\n[constraints]\n",
+    )
+    .replace("active = []", "active = [\"chance.steady_growth_rate_per_s\"]");
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("stable.toml");
+    std::fs::write(&file, text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(["compare", file.to_str().unwrap(), "--quiet"])
+        .args([
+            "--point",
+            "101.5rpm,17.07m/h",
+            "--point",
+            "120rpm,10m/h",
+            "--out",
+        ])
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("out").join("compare.json")).unwrap(),
+    )
+    .unwrap();
+    let points = json["points"].as_array().unwrap();
+    let rate = |p: &serde_json::Value| {
+        p["mean_metrics"]["steady_growth_rate_per_s"]
+            .as_f64()
+            .unwrap()
+    };
+    assert_eq!(points[0]["feasible"], false);
+    assert!(
+        (rate(&points[0]) - 1.073).abs() < 1e-3,
+        "{}",
+        rate(&points[0])
+    );
+    assert_eq!(points[1]["feasible"], true);
+    assert!(rate(&points[1]) < 0.0, "{}", rate(&points[1]));
+}

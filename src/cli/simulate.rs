@@ -281,7 +281,15 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         ),
         Err(e) => (None, Some(e.to_string())),
     };
-    let metrics = metrics.map(|x| x.with_drilled_bit_damping_ratio(&problem.model, op));
+    // Cheap beside the run (one more steady state and the eigenvalues of a matrix of twice the
+    // basis' size); the model the run used.
+    let steady_state = sim::steady_stability(&model, op, sim::Effects::ALL)
+        .ok()
+        .flatten();
+    let metrics = metrics.map(|x| {
+        x.with_drilled_bit_damping_ratio(&problem.model, op)
+            .with_steady_state(steady_state)
+    });
     let metrics = match margin {
         Ok(m) => metrics.map(|x| x.with_critical_speed_margin(m)),
         Err(e) => {
@@ -291,11 +299,6 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     };
     // A window too short to batch keeps its metrics and goes without intervals.
     let confidence_95 = online.batch_intervals();
-    // Cheap beside the run (one more steady state and the eigenvalues of a matrix of twice the
-    // basis' size); the model the run used.
-    let steady_state = sim::steady_stability(&model, op, sim::Effects::ALL)
-        .ok()
-        .flatten();
     let summary = SummaryJson {
         record: ProblemRecord::of(&problem, &args.problem),
         operating_point: report::PointJson::at(op),

@@ -267,6 +267,15 @@ pub const METRICS: &[MetricSpec] = &[
     .shown("bit negative damping / pipe torsional impedance", "", 1.0)
     .direction(Worse)
     .source(Source::Model),
+    MetricSpec::new(
+        "steady_growth_rate_per_s",
+        Rate,
+        WhenUsed(MetricClass::Model, 0.01),
+        |m| m.steady_growth_rate_per_s,
+    )
+    .shown("growth rate of steady drilling (dominant eigenvalue)", "1/s", 1.0)
+    .direction(Worse)
+    .source(Source::Model),
     MetricSpec::new("mean_top_torque_nm", Torque, WhenUsed(Mean, 10.0), |m| {
         m.mean_top_torque_nm
     })

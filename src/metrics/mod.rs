@@ -303,6 +303,13 @@ pub struct Metrics {
     /// the model and the operating point, and under a free top on the mean ROP drilled (taken as
     /// the bit's feed: [`Self::with_drilled_bit_damping_ratio`]). NaN when not computed.
     pub bit_damping_ratio: f64,
+    /// The growth rate of a disturbance of steady drilling at the operating point, 1/s: the real
+    /// part of the dominant eigenvalue of the run's equations linearised about the pre-loaded
+    /// steady state ([`crate::sim::steady_stability`]); > 0 the steady state is unstable (a
+    /// window that ends before the growth reads it as the long run), < 0 its slowest decay. A
+    /// property of the model and the operating point. NaN when not computed (a depth-of-cut
+    /// bit's delay equation; the studies compute it only when the problem uses it).
+    pub steady_growth_rate_per_s: f64,
     /// Time-weighted mean torque the top drive applies to turn the string at Ω (the surface
     /// torque), N·m: the torque on bit plus the wall friction and damping along the string
     /// (soft-string torque and drag, [`crate::model::SoftString`]).
@@ -367,6 +374,7 @@ impl Metrics {
             critical_speed_margin: n,
             critical_speed_proximity: n,
             bit_damping_ratio: n,
+            steady_growth_rate_per_s: n,
             mean_top_torque_nm: n,
             mean_top_force_n: n,
             rop_set_point_ratio: n,
@@ -421,6 +429,12 @@ impl Metrics {
     /// These metrics with `bit_damping_ratio` = `ratio` (see the field).
     pub fn with_bit_damping_ratio(mut self, ratio: f64) -> Self {
         self.bit_damping_ratio = ratio;
+        self
+    }
+
+    /// These metrics with `steady_growth_rate_per_s` of `stability` (NaN for none).
+    pub fn with_steady_state(mut self, stability: Option<crate::sim::SteadyStability>) -> Self {
+        self.steady_growth_rate_per_s = stability.map_or(f64::NAN, |s| s.growth_rate_per_s);
         self
     }
 

@@ -422,6 +422,11 @@ fn serializes_with_exactly_the_documented_keys() {
     );
     let m = m.with_bit_damping_ratio(0.34);
     assert_eq!(m.bit_damping_ratio, 0.34);
+    let m = m.with_steady_state(Some(crate::sim::SteadyStability {
+        growth_rate_per_s: -0.5,
+        frequency_hz: 3.0,
+    }));
+    assert_eq!(m.steady_growth_rate_per_s, -0.5);
     let json = serde_json::to_value(&m).unwrap();
     let mut keys: Vec<&str> = json
         .as_object()

@@ -411,7 +411,8 @@ impl<'a> RobustEvaluator<'a> {
         match metrics::of_run(&out, &config, model.string.pipe.yield_strength) {
             Ok(m) => SampleOutcome::Metrics(metric_map(
                 &m.with_critical_speed_margin(self.critical_speed_margin(index, op.omega))
-                    .with_drilled_bit_damping_ratio(&model.string, op),
+                    .with_drilled_bit_damping_ratio(&model.string, op)
+                    .with_steady_state(self.steady_state(model, op)),
             )),
             Err(e) => SampleOutcome::Failed(format!("metrics: {e}")),
         }
@@ -434,6 +435,26 @@ impl<'a> RobustEvaluator<'a> {
             Some(m) => m,
             None => campbell::critical_speed_margin(model, multiple, omega).unwrap_or(f64::NAN),
         }
+    }
+
+    /// [`crate::sim::steady_stability`] of a sample's model at `op`, when the problem uses
+    /// `steady_growth_rate_per_s` (another steady state per run: not computed otherwise).
+    fn steady_state(
+        &self,
+        model: &ReducedModel,
+        op: OperatingPoint,
+    ) -> Option<crate::sim::SteadyStability> {
+        let used = self
+            .problem
+            .study
+            .metrics_named()
+            .contains(&"steady_growth_rate_per_s");
+        if !used {
+            return None;
+        }
+        crate::sim::steady_stability(model, op, Effects::ALL)
+            .ok()
+            .flatten()
     }
 
     /// Combine the samples of one point into its score, risk terms and chance constraints.

@@ -495,7 +495,12 @@ fn run_variant(
         );
         metrics = metrics
             .with_critical_speed_margin(margin.unwrap_or(f64::NAN))
-            .with_drilled_bit_damping_ratio(&problem.model, op);
+            .with_drilled_bit_damping_ratio(&problem.model, op)
+            .with_steady_state(
+                crate::sim::steady_stability(&model, op, Effects::ALL)
+                    .ok()
+                    .flatten(),
+            );
     }
     Ok((
         VerifyRun {
