@@ -28,7 +28,7 @@ use std::sync::Mutex;
 #[derive(Debug, thiserror::Error)]
 pub enum SolveError {
     #[error(
-        "{file}: the problem has no [constraints] section; solve and map need the bounds constraints.omega and constraints.v0"
+        "{file}: the problem has no [constraints] section; solve and map need the bounds constraints.omega and constraints.v0 (e.g. omega = [\"30 rpm\", \"150 rpm\"], v0 = [\"2 m/h\", \"20 m/h\"]; problems/seed_robust.toml is the seed with a whole study section)"
     )]
     NoConstraints { file: String },
     #[error("{file}: [constraints]: {message}")]
