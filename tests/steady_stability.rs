@@ -8,6 +8,8 @@
 //! state of seed_power_limit.toml sat at 1e-12 rad/s for 30 s; at the default 1.38 ms its
 //! truncation error seeded it, and it grew into a limit cycle after about 25 s.)
 
+mod common;
+
 use drillopt::model::OperatingPoint;
 use drillopt::problem::Problem;
 use drillopt::rom::ReducedModel;
@@ -29,37 +31,14 @@ fn at(rpm: f64, m_per_h: f64) -> OperatingPoint {
     }
 }
 
-/// The growth rate (least squares on the log of the peaks of |θ̇_bit − Ω| after `from` seconds
-/// while they stay below `ceiling` rad/s) and the frequency (zero crossings over the same span)
-/// of the bit's spin.
+/// The growth rate and frequency ([`common::growth_and_frequency`]) of the bit's spin about Ω
+/// after `from` seconds, while the swing |θ̇_bit − Ω| stays below `ceiling` rad/s.
 fn growth_and_frequency(s: &TimeSeries, omega: f64, from: f64, ceiling: f64) -> (f64, f64) {
     let y: Vec<f64> = s.bit_angular_velocity.iter().map(|w| w - omega).collect();
     let end = (0..y.len())
         .find(|&k| y[k].abs() > ceiling)
         .unwrap_or(y.len());
-    let inside = |k: usize| s.t[k] >= from && k < end;
-    let mut peaks = Vec::new();
-    for k in 1..y.len() - 1 {
-        let a = y[k].abs();
-        if a >= y[k - 1].abs() && a >= y[k + 1].abs() && inside(k) {
-            peaks.push((s.t[k], a.ln()));
-        }
-    }
-    assert!(peaks.len() > 20, "{} peaks in the band", peaks.len());
-    let (from, to) = (peaks[0].0, peaks[peaks.len() - 1].0);
-    let crossings: Vec<f64> = (1..y.len())
-        .filter(|&k| s.t[k] >= from && s.t[k] <= to && y[k] * y[k - 1] < 0.0)
-        .map(|k| s.t[k - 1] + (s.t[k] - s.t[k - 1]) * y[k - 1] / (y[k - 1] - y[k]))
-        .collect();
-    let n = peaks.len() as f64;
-    let (mt, ml) = (
-        peaks.iter().map(|p| p.0).sum::<f64>() / n,
-        peaks.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let slope = peaks.iter().map(|p| (p.0 - mt) * (p.1 - ml)).sum::<f64>()
-        / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
-    let span = crossings[crossings.len() - 1] - crossings[0];
-    (slope, (crossings.len() - 1) as f64 / (2.0 * span))
+    common::growth_and_frequency(&s.t, &y, |k| s.t[k] >= from && k < end)
 }
 
 #[test]

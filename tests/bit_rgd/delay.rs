@@ -10,7 +10,7 @@
 //! lobe at 114–124 rpm from the characteristic equation and the simulator's onset of growth there,
 //! and checks that the bit leaves the rock inside the lobe and not outside.
 
-use super::{SEED_DETOURNAY, problem};
+use super::{SEED_DETOURNAY, common, problem};
 use drillopt::model::OperatingPoint;
 use drillopt::problem::Problem;
 use drillopt::rom::ReducedModel;
@@ -136,35 +136,11 @@ impl Linearised {
     }
 }
 
-/// The bit's axial velocity oscillation |u̇ − V| over the samples of `s` selected by `take`
-/// (time, |u̇ − V|): its growth rate (least squares on the log of its peaks) and its frequency
-/// (zero crossings).
+/// The bit's axial velocity oscillation u̇ − V over the samples of `s` selected by `take`
+/// (time, |u̇ − V|): its growth rate and frequency ([`common::growth_and_frequency`]).
 fn growth_and_frequency(s: &TimeSeries, v: f64, take: impl Fn(f64, f64) -> bool) -> (f64, f64) {
     let y: Vec<f64> = s.bit_velocity.iter().map(|u| u - v).collect();
-    let mut peaks = Vec::new();
-    for k in 1..s.t.len() - 1 {
-        if y[k].abs() >= y[k - 1].abs() && y[k].abs() >= y[k + 1].abs() && take(s.t[k], y[k].abs())
-        {
-            peaks.push((s.t[k], y[k].abs().ln()));
-        }
-    }
-    assert!(peaks.len() > 20, "{} peaks", peaks.len());
-    let (from, to) = (peaks[0].0, peaks[peaks.len() - 1].0);
-    let mut crossings = Vec::new();
-    for k in 1..s.t.len() {
-        if s.t[k] >= from && s.t[k] <= to && y[k] * y[k - 1] < 0.0 {
-            crossings.push(s.t[k - 1] + (s.t[k] - s.t[k - 1]) * y[k - 1] / (y[k - 1] - y[k]));
-        }
-    }
-    let n = peaks.len() as f64;
-    let (mt, ml) = (
-        peaks.iter().map(|p| p.0).sum::<f64>() / n,
-        peaks.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let slope = peaks.iter().map(|p| (p.0 - mt) * (p.1 - ml)).sum::<f64>()
-        / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
-    let span = crossings[crossings.len() - 1] - crossings[0];
-    (slope, (crossings.len() - 1) as f64 / (2.0 * span))
+    common::growth_and_frequency(&s.t, &y, |k| take(s.t[k], y[k].abs()))
 }
 
 fn rpm(omega: f64) -> f64 {

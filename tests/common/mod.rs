@@ -222,3 +222,32 @@ pub fn simply_supported(string: &drillopt::model::Drillstring, elements: usize) 
         lateral: [lateral(Dof::V), lateral(Dof::W)],
     }
 }
+
+/// The growth rate and frequency of an oscillation `y(t)` (a deviation from a steady value):
+/// the least-squares slope of the log of its peaks |y| at the samples `take` selects, 1/s, and the
+/// frequency from its zero crossings between the first and last of those peaks, Hz. Panics with
+/// fewer than 21 peaks.
+pub fn growth_and_frequency(t: &[f64], y: &[f64], take: impl Fn(usize) -> bool) -> (f64, f64) {
+    let mut peaks = Vec::new();
+    for k in 1..y.len() - 1 {
+        let a = y[k].abs();
+        if a >= y[k - 1].abs() && a >= y[k + 1].abs() && take(k) {
+            peaks.push((t[k], a.ln()));
+        }
+    }
+    assert!(peaks.len() > 20, "{} peaks", peaks.len());
+    let (from, to) = (peaks[0].0, peaks[peaks.len() - 1].0);
+    let crossings: Vec<f64> = (1..y.len())
+        .filter(|&k| t[k] >= from && t[k] <= to && y[k] * y[k - 1] < 0.0)
+        .map(|k| t[k - 1] + (t[k] - t[k - 1]) * y[k - 1] / (y[k - 1] - y[k]))
+        .collect();
+    let n = peaks.len() as f64;
+    let (mt, ml) = (
+        peaks.iter().map(|p| p.0).sum::<f64>() / n,
+        peaks.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let slope = peaks.iter().map(|p| (p.0 - mt) * (p.1 - ml)).sum::<f64>()
+        / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
+    let span = crossings[crossings.len() - 1] - crossings[0];
+    (slope, (crossings.len() - 1) as f64 / (2.0 * span))
+}
