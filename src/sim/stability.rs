@@ -28,6 +28,11 @@ use nalgebra::{DMatrix, DVector};
 /// Eigenvalues of modulus below this (1/s) are neutral, not growth.
 pub const NEUTRAL: f64 = 1e-6;
 
+/// The largest number of unknowns whose stability is computed: the dense companion matrix has
+/// twice as many rows and its eigenvalues cost O(rows³) (600 unknowns: a 1200² matrix, a few
+/// seconds; a reduced basis has 50–200). An unreduced model of a long mesh is left out (`None`).
+pub const MAX_UNKNOWNS: usize = 600;
+
 /// The dominant eigenvalue of steady drilling at an operating point.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SteadyStability {
@@ -55,15 +60,15 @@ impl SteadyStability {
 }
 
 /// The dominant eigenvalue of the run's equations linearised about the pre-loaded steady state
-/// of `op` (module doc). `None` for a depth-of-cut bit (a delay equation) or when the mass matrix
-/// is singular. Errors: the steady state's own ([`super::preloaded_equilibrium`],
-/// [`super::free_top_start`]).
+/// of `op` (module doc). `None` for a depth-of-cut bit (a delay equation), for more than
+/// [`MAX_UNKNOWNS`] unknowns, or when the mass matrix is singular. Errors: the steady state's
+/// own ([`super::preloaded_equilibrium`], [`super::free_top_start`]).
 pub fn steady_stability(
     model: &ReducedModel,
     op: OperatingPoint,
     effects: super::Effects,
 ) -> Result<Option<SteadyStability>, SimulationError> {
-    if model.string.bit.blades().is_some() {
+    if model.string.bit.blades().is_some() || model.size() + 1 > MAX_UNKNOWNS {
         return Ok(None);
     }
     let n = model.size();
