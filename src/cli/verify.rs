@@ -210,6 +210,19 @@ fn print_table(
             ""
         }
     );
+    match r.steady_state {
+        Some(st) if st.unstable() => println!(
+            "steady state UNSTABLE: grows at {:.3} 1/s ({:.1} Hz); from round-off it needs about {:.1} s to reach the response's size (a window that ends before reads the steady state)",
+            st.growth_rate_per_s,
+            st.frequency_hz,
+            st.growth_time(1e12)
+        ),
+        Some(st) => println!(
+            "steady state stable: the slowest decay {:.3} 1/s ({:.1} Hz)",
+            -st.growth_rate_per_s, st.frequency_hz
+        ),
+        None => {}
+    }
     if !r.smoothing_keys.is_empty() {
         println!(
             "smoothing: {} divided by {}",

@@ -196,6 +196,10 @@ pub struct VerifyRun {
     pub duration_s: f64,
     pub steps: usize,
     pub wall_time_s: f64,
+    /// The base run's steady-state stability ([`crate::sim::steady_stability`]); `None` for the
+    /// other runs and where it is not computed.
+    #[serde(skip)]
+    pub steady_state: Option<crate::sim::SteadyStability>,
 }
 
 /// The outcome of `verify`.
@@ -218,6 +222,10 @@ pub struct VerifyReport {
     /// The regularisation widths the smoothing refinement divided by [`SMOOTHING_DIVISOR`]
     /// (empty when it was not run).
     pub smoothing_keys: Vec<&'static str>,
+    /// The dominant eigenvalue of steady drilling at the point (the base model): an unstable
+    /// steady state is left by the run only once a disturbance has grown, so the window
+    /// refinement may be what tells; `None` where it is not computed.
+    pub steady_state: Option<crate::sim::SteadyStability>,
     pub runs: Vec<VerifyRun>,
 }
 
@@ -395,6 +403,7 @@ pub fn verify_with(
         .find(|(r, _)| r.name == Refinement::Basis.name())
         .map_or(base_run.basis, |(r, _)| r.basis);
     Ok(VerifyReport {
+        steady_state: base_run.steady_state,
         bit_damping_ratio: base_metrics
             .clone()
             .with_drilled_bit_damping_ratio(&problem.model, settings.op)
@@ -510,6 +519,13 @@ fn run_variant(
             duration_s: v.duration,
             steps: out.stats.steps,
             wall_time_s: out.stats.wall_time_s,
+            steady_state: if v.name == "base" {
+                crate::sim::steady_stability(&model, op, Effects::ALL)
+                    .ok()
+                    .flatten()
+            } else {
+                None
+            },
         },
         metrics,
     ))
