@@ -352,7 +352,9 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     if let Some(w) = depth_of_cut_warning(&problem.model) {
         eprintln!("{w}");
     }
-    if let Some(w) = steady_state_warning(steady_state, settling, duration) {
+    // Only a run that starts on the steady state can read it as the long run.
+    let preloaded = problem.simulation.start == crate::model::Start::Preloaded;
+    if let Some(w) = steady_state_warning(steady_state, settling, duration).filter(|_| preloaded) {
         eprintln!("{w}");
     }
     if let Some(e) = &output.error {
