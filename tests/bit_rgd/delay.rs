@@ -257,16 +257,7 @@ fn soft_rock_text(beta: f64) -> String {
 fn kicked(model: &ReducedModel, op: OperatingPoint, kick: f64, duration: f64) -> TimeSeries {
     let (q, _) = preloaded_equilibrium(model, op, Effects::ALL).expect("the steady start");
     let v = &q * kick;
-    let out = simulate(
-        model,
-        op,
-        Effects::ALL,
-        &RunSettings::new(duration, 2e-4),
-        InitialState::Given { q, v },
-        |_| {},
-    );
-    assert!(out.error.is_none(), "{:?}", out.error);
-    out.series
+    run_from(model, op, q, v, duration)
 }
 
 /// A run of `duration` s at `op`, started from the steady state of the feed `factor` · V0 on the
@@ -279,6 +270,17 @@ fn released(model: &ReducedModel, op: OperatingPoint, factor: f64, duration: f64
     };
     let (q, _) = preloaded_equilibrium(model, other, Effects::ALL).expect("the steady start");
     let v = q.map(|_| 0.0);
+    run_from(model, op, q, v, duration)
+}
+
+/// A run of `duration` s at `op` from the modal state (q, q̇), steps of at most 0.2 ms.
+fn run_from(
+    model: &ReducedModel,
+    op: OperatingPoint,
+    q: nalgebra::DVector<f64>,
+    v: nalgebra::DVector<f64>,
+    duration: f64,
+) -> TimeSeries {
     let out = simulate(
         model,
         op,
