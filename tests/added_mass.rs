@@ -170,6 +170,7 @@ fn the_resting_state_is_that_of_the_buoyed_weight_whatever_the_added_mass() {
         let op = drillopt::model::OperatingPoint {
             omega: 0.0,
             v0: 0.0,
+            wob: 0.0,
         };
         let mut sys = Dynamics::new(&model, op, statics);
         let zero = nalgebra::DVector::zeros(model.size());

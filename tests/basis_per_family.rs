@@ -144,6 +144,7 @@ fn the_preloaded_start_carries_the_steady_bit_loads() {
     let op = OperatingPoint {
         omega: 2.0 * std::f64::consts::PI,
         v0: 10.0 / 3600.0,
+        wob: 0.0,
     };
     let (q, _) = preloaded_equilibrium(&model, op, Effects::ALL).unwrap();
     let n = model.size();

@@ -71,7 +71,10 @@ fn the_benchmark_is_the_seed_string_with_the_issue_s_study() {
     let rpm = |x: f64| drillopt::units::to_rpm(x);
     let m_per_h = |x: f64| drillopt::units::to_m_per_h(x);
     assert!((rpm(c.omega[0]) - 40.0).abs() < 1e-9 && (rpm(c.omega[1]) - 120.0).abs() < 1e-9);
-    assert!((m_per_h(c.v0[0]) - 2.0).abs() < 1e-9 && (m_per_h(c.v0[1]) - 30.0).abs() < 1e-9);
+    assert!(
+        (m_per_h(c.set_point[0]) - 2.0).abs() < 1e-9
+            && (m_per_h(c.set_point[1]) - 30.0).abs() < 1e-9
+    );
     // One chance constraint, on the damage metric (none on bit_damping_ratio: with the stiffness
     // damping the model has a converged answer beyond ratio 1 too).
     assert_eq!(c.chance.len(), 1);

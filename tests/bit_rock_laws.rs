@@ -126,6 +126,7 @@ fn the_simulator_runs_the_chosen_law_from_its_steady_state() {
     let op = OperatingPoint {
         omega: 2.0 * PI,
         v0: 5.0 / 3600.0,
+        wob: 0.0,
     };
     // The pre-loaded state carries the law's WOB and TOB at (V0, Ω).
     let (q, _) = preloaded_equilibrium(&model, op, Effects::ALL).unwrap();

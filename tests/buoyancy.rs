@@ -88,6 +88,7 @@ fn resting_reaction_per_length(annulus: &str) -> f64 {
     let rest = OperatingPoint {
         omega: 0.0,
         v0: 0.0,
+        wob: 0.0,
     };
     let statics = Effects {
         damping: false,

@@ -117,11 +117,8 @@ fn a_hook_load_drills_at_the_rop_the_bit_law_gives_its_weight() {
         "{}",
         expected * 3600.0
     );
-    let m = model(TopDrive::HookLoad { wob: SET_POINT });
-    let op = OperatingPoint {
-        omega: omega(),
-        v0: 0.0,
-    };
+    let m = model(TopDrive::HookLoad);
+    let op = OperatingPoint::hook_load(omega(), SET_POINT);
     // The pre-loaded start finds the steady feed itself.
     let out = simulate(
         &m,
@@ -151,9 +148,11 @@ fn a_hook_load_drills_at_the_rop_the_bit_law_gives_its_weight() {
     // Started at half the steady feed (the steady state of the imposed feed V/2, the block
     // moving at V/2), the block finds the steady ROP by itself: the top force is the set-point
     // at every step, the WOB builds until it matches.
+    // (V0 is the given start's block speed and the feed of its equilibrium; W the hook load.)
     let half = OperatingPoint {
         omega: omega(),
         v0: 0.5 * expected,
+        wob: SET_POINT,
     };
     let (q, _) = preloaded_equilibrium(&m, half, Effects::ALL).unwrap();
     let v = nalgebra::DVector::zeros(m.size());
@@ -216,6 +215,7 @@ fn an_autodriller_below_its_limit_feeds_at_v0_with_its_time_constant() {
     let op = OperatingPoint {
         omega: omega(),
         v0: 10.0 / 3600.0,
+        wob: 0.0,
     };
     // From the static equilibrium: the block at rest, the bit off bottom.
     let out = simulate(
@@ -257,6 +257,7 @@ fn an_autodriller_at_its_wob_limit_drills_at_the_rop_the_rock_allows() {
     let op = OperatingPoint {
         omega: omega(),
         v0: 10.0 / 3600.0,
+        wob: 0.0,
     };
     assert!(top_force(op.v0) > 1.4 * SET_POINT);
     let expected = steady_rop(SET_POINT);
@@ -372,15 +373,35 @@ fn the_top_keys_are_refused_where_they_mean_nothing() {
         m.contains("operating_point.top") && m.contains("\"autodriler\""),
         "{m}"
     );
-    assert!(!m.contains("hook_load"), "{m}");
+    // A hook load's set-point is its WOB: the feed is refused beside it, the WOB required, and
+    // the WOB refused under the other tops.
     let m = message(edit(
         v0,
         "v0 = \"5 m/h\"\ntop = \"hook_load\"\nwob = \"50 kN\"",
     ));
     assert!(
-        m.contains("operating_point.top") && m.contains("not yet"),
+        m.contains("operating_point.v0") && m.contains("hook_load") && m.contains("wob"),
         "{m}"
     );
+    let m = message(edit(v0, "top = \"hook_load\""));
+    assert!(
+        m.contains("operating_point.wob") && m.contains("required"),
+        "{m}"
+    );
+    let m = message(edit(v0, "v0 = \"5 m/h\"\nwob = \"50 kN\""));
+    assert!(
+        m.contains("operating_point.wob") && m.contains("hook_load"),
+        "{m}"
+    );
+    let m = message(edit(v0, "top = \"hook_load\"\nwob = \"3 MN\""));
+    assert!(
+        m.contains("operating_point.wob") && m.contains("2 MN"),
+        "{m}"
+    );
+    let p = edit(v0, "top = \"hook_load\"\nwob = \"11.24 klbf\"").expect("a hook-load file");
+    assert_eq!(p.model.top, TopDrive::HookLoad);
+    assert_eq!(p.operating_point.v0, 0.0);
+    assert!((p.operating_point.wob - 11.24 * 4448.2216152605).abs() < 1e-6);
     let m = message(edit(
         v0,
         "v0 = \"5 m/h\"\ntop = \"autodriller\"\nwob_limit = \"60 kN\"\npower_limit = \"20 MW\"",
@@ -423,6 +444,7 @@ fn the_unreduced_model_drills_at_the_same_rop_under_an_autodriller() {
     let op = OperatingPoint {
         omega: omega(),
         v0: 10.0 / 3600.0,
+        wob: 0.0,
     };
     let out = simulate(
         &m,
@@ -451,6 +473,7 @@ fn a_power_rating_limits_the_torque_to_power_over_omega() {
     let op = OperatingPoint {
         omega: omega(),
         v0: 10.0 / 3600.0,
+        wob: 0.0,
     };
     let limited = |torque_limit: Option<f64>, power_limit: Option<f64>| {
         let m = model(TopDrive::Autodriller(Autodriller {

@@ -35,6 +35,7 @@ fn run(p: &Problem, duration: f64) -> drillopt::metrics::Metrics {
     let op = OperatingPoint {
         omega: 4.0 * std::f64::consts::PI,
         v0: 10.0 / 3600.0,
+        wob: 0.0,
     };
     let out = simulate(
         &model,

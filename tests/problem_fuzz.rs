@@ -20,7 +20,15 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 16] = [
+const SHIPPED: [(&str, &str); 18] = [
+    (
+        "problems/regression/slim_pipe_hook_load.toml",
+        include_str!("../problems/regression/slim_pipe_hook_load.toml"),
+    ),
+    (
+        "problems/regression/seed_power_stability.toml",
+        include_str!("../problems/regression/seed_power_stability.toml"),
+    ),
     (
         "problems/regression/seed_power_limit.toml",
         include_str!("../problems/regression/seed_power_limit.toml"),

@@ -433,10 +433,11 @@ fn a_missing_required_key_is_refused() {
         "model.length",
         &["missing field"],
     );
+    // Required by the feed tops (a hook load takes `wob` instead), so refused by the checker.
     refused(
         &remove("operating_point", "v0"),
         "operating_point.v0",
-        &["missing field"],
+        &["is required", "hook_load"],
     );
     refused(
         &remove("model.bit", "rate"),

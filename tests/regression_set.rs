@@ -78,7 +78,10 @@ fn the_set_has_an_interior_omega_optimum_and_one_held_by_a_physical_limit() {
             interior.push(p.name.clone());
         }
         let chance = act.iter().any(|a| matches!(a, ActiveConstraint::Chance(_)));
-        if chance && !act.contains(&ActiveConstraint::V0Max) && e.v0[1] < k.v0[1] {
+        if chance
+            && !act.contains(&ActiveConstraint::SetPointMax)
+            && e.set_point[1] < k.set_point[1]
+        {
             physical.push(p.name.clone());
         }
         if act.iter().any(
@@ -90,7 +93,7 @@ fn the_set_has_an_interior_omega_optimum_and_one_held_by_a_physical_limit() {
         let [n, m] = map_grid(f);
         let cell = [
             (k.omega[1] - k.omega[0]) / (n - 1) as f64,
-            (k.v0[1] - k.v0[0]) / (m - 1) as f64,
+            (k.set_point[1] - k.set_point[0]) / (m - 1) as f64,
         ];
         assert!(
             e.omega[1] - e.omega[0] >= cell[0],
@@ -98,7 +101,7 @@ fn the_set_has_an_interior_omega_optimum_and_one_held_by_a_physical_limit() {
             f.display()
         );
         assert!(
-            e.v0[1] - e.v0[0] >= cell[1],
+            e.set_point[1] - e.set_point[0] >= cell[1],
             "{}: V0 range narrower than a map cell",
             f.display()
         );
@@ -159,14 +162,14 @@ fn buckling_limited_optima_lie_below_the_closed_form_buckling_feed() {
         let fs = f_sin(&p);
         let v_buckle = -(1.0 - fs / gamma).ln() / alpha;
         assert!(
-            e.v0[1] <= v_buckle,
+            e.set_point[1] <= v_buckle,
             "{}: expected V0 up to {} m/h beyond the quasi-static buckling feed {} m/h (F_sin {} kN)",
             f.display(),
-            e.v0[1] * 3600.0,
+            e.set_point[1] * 3600.0,
             v_buckle * 3600.0,
             fs / 1e3
         );
-        limited.push((fs, e.v0, p.name.clone()));
+        limited.push((fs, e.set_point, p.name.clone()));
     }
     assert!(limited.len() >= 2, "{limited:?}");
     // A lower buckling load stops the feed earlier: the ranges are ordered as the loads are.
@@ -214,7 +217,7 @@ fn solve_lands_in_the_expected_ranges(file: &Path) -> serde_json::Value {
         omega * 30.0 / PI
     );
     assert!(
-        (e.v0[0]..=e.v0[1]).contains(&v0),
+        (e.set_point[0]..=e.set_point[1]).contains(&v0),
         "{}: V0 {} m/h",
         file.display(),
         v0 * 3600.0
@@ -268,16 +271,17 @@ const DNV_AIR_FIRST_BRANCH: [(&str, f64, f64); 3] = [
     ("DNV-D", 3.0, 12.164),
 ];
 
-/// One `drillopt simulate` at (Ω, V0); the worst section of `stress_envelope.csv` as
-/// (fatigue damage per hour, its largest bending moment in N·m).
-fn worst_section(file: &Path, omega_rpm: f64, v0_m_per_h: f64) -> (f64, f64) {
+/// One `drillopt simulate` at Ω and the set-point flag (`--v0=…m/h`, or `--wob=…kN` under a hook
+/// load); the worst section of `stress_envelope.csv` as (fatigue damage per hour, its largest
+/// bending moment in N·m).
+fn worst_section(file: &Path, omega_rpm: f64, set_point: &str) -> (f64, f64) {
     let dir = tempfile::tempdir().unwrap();
     drillopt(&[
         "simulate",
         file.to_str().unwrap(),
         "--quiet",
         &format!("--omega={omega_rpm}rpm"),
-        &format!("--v0={v0_m_per_h}m/h"),
+        set_point,
         "--out",
         dir.path().to_str().unwrap(),
     ]);
@@ -331,36 +335,50 @@ fn fatigue_limited_optimum_is_the_rotating_bending_damage_reaching_its_limit() {
         // depth the limit allows, ROP ∝ Ω), walked through the expected Ω range with the
         // set-point at the top of the expected V0 range, above what the limit lets the bit drill
         // there.
-        let points: Vec<(f64, f64)> = match k.linear.iter().find(|c| c.label == "max_depth_of_cut")
+        // Under a hook load: the expected Ω range at the middle of the expected WOB range, across
+        // the fatigue limit, whose Ω falls as the WOB bends the pipe more.
+        let v0 = |m_per_h: f64| format!("--v0={m_per_h}m/h");
+        let points: Vec<(f64, String)> = match k
+            .linear
+            .iter()
+            .find(|c| c.label == "max_depth_of_cut")
         {
             Some(line) => {
-                let depth = -line.omega * 2.0 * PI / line.v0;
-                e.v0.iter()
-                    .map(|&v0| (2.0 * PI * v0 / depth * 30.0 / PI * 1.0001, v0 * 3600.0))
+                let depth = -line.omega * 2.0 * PI / line.set_point;
+                e.set_point
+                    .iter()
+                    .map(|&v| (2.0 * PI * v / depth * 30.0 / PI * 1.0001, v0(v * 3600.0)))
+                    .collect()
+            }
+            None if p.model.top == drillopt::model::TopDrive::HookLoad => {
+                let wob_kn = 0.5 * (e.set_point[0] + e.set_point[1]) / 1e3;
+                e.omega
+                    .iter()
+                    .map(|&w| (w * 30.0 / PI, format!("--wob={wob_kn}kN")))
                     .collect()
             }
             None => {
                 assert!(
                     matches!(p.model.top, drillopt::model::TopDrive::Autodriller(_)),
-                    "{}: a depth-of-cut line or an autodriller's WOB limit expected",
+                    "{}: a depth-of-cut line, an autodriller's WOB limit or a hook load expected",
                     f.display()
                 );
                 e.omega
                     .iter()
-                    .map(|&w| (w * 30.0 / PI, e.v0[1] * 3600.0))
+                    .map(|&w| (w * 30.0 / PI, v0(e.set_point[1] * 3600.0)))
                     .collect()
             }
         };
         let mut damage = Vec::new();
-        for (rpm, m_per_h) in points {
+        for (rpm, set_point) in points {
             let omega = rpm * PI / 30.0;
-            let (d, moment) = worst_section(&f, rpm, m_per_h);
+            let (d, moment) = worst_section(&f, rpm, &set_point);
             let range_mpa = 2.0 * scf * moment * c_over_i / 1e6;
             let per_hour = omega / (2.0 * PI) * 3600.0;
             let closed = per_hour * range_mpa.powf(*m) / 10f64.powf(*log_a);
             assert!(
                 (d / closed - 1.0).abs() < 0.15,
-                "{}: at {rpm:.1} rpm, {m_per_h:.2} m/h the simulated damage {d:.4}/h vs Miner's \
+                "{}: at {rpm:.1} rpm, {set_point} the simulated damage {d:.4}/h vs Miner's \
                  {closed:.4}/h (M = {moment:.0} N·m, Δσ = {range_mpa:.0} MPa)",
                 f.display()
             );
@@ -394,7 +412,7 @@ fn expect_active_is_validated_against_the_constraints_and_ranges() {
     assert_eq!(
         load(line).unwrap(),
         Some(vec![
-            ActiveConstraint::V0Max,
+            ActiveConstraint::SetPointMax,
             ActiveConstraint::Linear("max_depth_of_cut")
         ])
     );

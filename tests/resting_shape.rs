@@ -43,6 +43,7 @@ fn seed_point() -> OperatingPoint {
     OperatingPoint {
         omega: 2.0 * std::f64::consts::PI,
         v0: 5.0 / 3600.0,
+        wob: 0.0,
     }
 }
 

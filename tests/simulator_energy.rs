@@ -67,6 +67,7 @@ fn free_vibration_conserves_energy_over_100_bending_periods() {
         OperatingPoint {
             omega: 0.0,
             v0: 0.0,
+            wob: 0.0,
         },
         Effects::NONE,
         &settings,

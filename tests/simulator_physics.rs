@@ -268,6 +268,7 @@ fn stiffness_proportional_damping_decays_a_torsional_mode_at_beta_omega_squared_
     let op = OperatingPoint {
         omega: 0.0,
         v0: 0.0,
+        wob: 0.0,
     };
     let only_damping = Effects {
         damping: true,

@@ -28,6 +28,7 @@ fn at(rpm: f64, m_per_h: f64) -> OperatingPoint {
     OperatingPoint {
         omega: rpm * PI / 30.0,
         v0: m_per_h / 3600.0,
+        wob: 0.0,
     }
 }
 

@@ -35,6 +35,7 @@ fn steady_drilling_stresses_match_the_closed_form_along_the_whole_string() {
     let op = OperatingPoint {
         omega: 2.0 * std::f64::consts::PI,
         v0: 5.0 / 3600.0,
+        wob: 0.0,
     };
     // 1 ms: the steady state is unstable (velocity-weakening bit, no damping), and the stick-slip
     // that grows out of it moves the torque by 1.7 % within 50 ms; the first millisecond is the

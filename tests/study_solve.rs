@@ -47,7 +47,7 @@ fn trust_region_solve_finds_the_optimum_an_exhaustive_map_gives() {
     let outcome = drillopt::solve::solve(&problem, &ev, None).unwrap();
     let opt = outcome.best.clone().expect("an optimum");
     let cell_omega = map.omega[1] - map.omega[0];
-    let cell_v0 = map.v0[1] - map.v0[0];
+    let cell_v0 = map.set_point[1] - map.set_point[0];
     println!(
         "map best: {:.1} rpm {:.2} m/h score {:.4}; solve: {:.1} rpm {:.2} m/h score {:.4} after {} points ({})",
         best.omega_rpm,
@@ -112,10 +112,12 @@ cov = 0.2
         OperatingPoint {
             omega: 8.0,
             v0: 10.0 / 3600.0,
+            wob: 0.0,
         },
         OperatingPoint {
             omega: 10.0,
             v0: 12.0 / 3600.0,
+            wob: 0.0,
         },
     ];
     let run = |threads: usize| {

@@ -72,7 +72,7 @@ max_evaluations = 20
     assert_eq!((s.samples, s.seed), (8, 3));
     assert_eq!(s.uncertain[0].law.mean(), 250e3);
     let c = s.constraints.as_ref().unwrap();
-    assert!((c.v0[1] - 20.0 / 3600.0).abs() < 1e-15);
+    assert!((c.set_point[1] - 20.0 / 3600.0).abs() < 1e-15);
     // 2π V0 − d Ω ≤ 0 with d = 3 mm.
     assert_eq!(c.linear[0].omega, -3e-3);
     assert_eq!(c.chance[0].max_probability, 0.1);

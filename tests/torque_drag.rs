@@ -78,6 +78,7 @@ fn steady_state(p: &Problem) -> (f64, f64, f64, f64, f64) {
     let op = OperatingPoint {
         omega: Raw::omega(),
         v0: Raw::v0(),
+        wob: 0.0,
     };
     let (q, _) = preloaded_equilibrium(&model, op, Effects::ALL).expect("the start converges");
     let mut sys = Dynamics::new(&model, op, Effects::ALL);
@@ -199,7 +200,20 @@ fn every_shipped_problem_starts_at_every_field_friction() {
         for mu in [0.0, 0.1, 0.3, 0.5] {
             p.model.wall.set(index, mu);
             let model = model_at(&p);
-            let op = p.operating_point;
+            // A hook load's start is its steady drilling state at the feed its WOB drills (off
+            // bottom this slim string hangs free of the wall, which the soft string does not).
+            let op = match p.model.top {
+                drillopt::model::TopDrive::HookLoad => {
+                    let (_, v, _) =
+                        drillopt::sim::free_top_start(&model, p.operating_point, Effects::ALL)
+                            .unwrap_or_else(|e| panic!("{}: mu {mu}: {e}", file.display()));
+                    drillopt::model::OperatingPoint {
+                        v0: v,
+                        ..p.operating_point
+                    }
+                }
+                _ => p.operating_point,
+            };
             let (q, iterations) = preloaded_equilibrium(&model, op, Effects::ALL)
                 .unwrap_or_else(|e| panic!("{}: mu {mu}: {e}", file.display()));
             let mut sys = Dynamics::new(&model, op, Effects::ALL);

@@ -64,6 +64,7 @@ fn the_unreduced_model_follows_the_trajectory_of_its_complete_modal_basis() {
     let op = OperatingPoint {
         omega: drillopt::units::from_rpm(40.0),
         v0: drillopt::units::from_m_per_h(10.0),
+        wob: 0.0,
     };
     let (a, b) = (run(&nodal, op, 0.07, 1.0), run(&complete, op, 0.07, 1.0));
     let (sa, sb) = (&a.series, &b.series);

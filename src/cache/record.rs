@@ -12,7 +12,8 @@ use std::collections::BTreeMap;
 pub struct CacheKey {
     /// `f64::to_bits` of the top rotation speed Ω, rad/s.
     pub omega_bits: u64,
-    /// `f64::to_bits` of the top axial velocity V0, m/s.
+    /// `f64::to_bits` of the set-point: the top axial velocity V0, m/s, or under a hook load (the
+    /// model hash holds the top) the WOB set-point, N.
     pub v0_bits: u64,
     /// Index of the Monte Carlo sample (0 for the nominal model).
     pub sample: u32,

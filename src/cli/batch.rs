@@ -47,10 +47,12 @@ pub struct Verdict {
 /// Check an optimum against the expected ranges.
 pub fn check(
     expect: &crate::problem::study::Expect,
-    omega: f64,
-    v0: f64,
+    kind: crate::model::SetPoint,
+    op: crate::model::OperatingPoint,
     score: f64,
 ) -> (bool, String) {
+    let (omega, s) = (op.omega, op.set_point(kind));
+    let (symbol, unit) = (kind.symbol(), kind.unit());
     let mut fails = Vec::new();
     let rpm = crate::units::to_rpm;
     if !(expect.omega[0]..=expect.omega[1]).contains(&omega) {
@@ -61,12 +63,12 @@ pub fn check(
             rpm(expect.omega[1])
         ));
     }
-    if !(expect.v0[0]..=expect.v0[1]).contains(&v0) {
+    if !(expect.set_point[0]..=expect.set_point[1]).contains(&s) {
         fails.push(format!(
-            "V0 = {:.2} m/h outside [{:.2}, {:.2}]",
-            crate::units::to_m_per_h(v0),
-            crate::units::to_m_per_h(expect.v0[0]),
-            crate::units::to_m_per_h(expect.v0[1])
+            "{symbol} = {:.2} {unit} outside [{:.2}, {:.2}]",
+            kind.to_unit(s),
+            kind.to_unit(expect.set_point[0]),
+            kind.to_unit(expect.set_point[1])
         ));
     }
     if let Some([lo, hi]) = expect.objective
@@ -78,9 +80,9 @@ pub fn check(
         (
             true,
             format!(
-                "Ω = {:.1} rpm, V0 = {:.2} m/h, score {score:.3}",
+                "Ω = {:.1} rpm, {symbol} = {:.2} {unit}, score {score:.3}",
                 rpm(omega),
-                crate::units::to_m_per_h(v0)
+                kind.to_unit(s)
             ),
         )
     } else {
@@ -143,8 +145,8 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
                 Some(b) => {
                     let (pass, detail) = check(
                         &expect,
-                        b.omega_rad_s,
-                        b.v0_m_s,
+                        problem.model.top.set_point(),
+                        b.op(),
                         b.objective.unwrap_or(f64::NAN),
                     );
                     Verdict {
@@ -183,22 +185,36 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
 
 #[cfg(test)]
 mod tests {
+    use crate::model::{OperatingPoint, SetPoint};
     use crate::problem::study::Expect;
 
     #[test]
     fn check_reports_each_range_it_misses() {
         let e = Expect {
             omega: [5.0, 8.0],
-            v0: [1e-3, 2e-3],
+            set_point: [1e-3, 2e-3],
             objective: Some([1.0, 2.0]),
             reason: "test".into(),
             active: None,
         };
-        assert!(super::check(&e, 6.0, 1.5e-3, 1.5).0);
-        let (pass, why) = super::check(&e, 9.0, 3e-3, 2.5);
+        let feed = SetPoint::Feed;
+        assert!(super::check(&e, feed, OperatingPoint::feed(6.0, 1.5e-3), 1.5).0);
+        let (pass, why) = super::check(&e, feed, OperatingPoint::feed(9.0, 3e-3), 2.5);
         assert!(!pass);
         assert!(
             why.contains("Ω") && why.contains("V0") && why.contains("score"),
+            "{why}"
+        );
+        // A hook load's range is the WOB's, in kN.
+        let e = Expect {
+            set_point: [40e3, 60e3],
+            ..e
+        };
+        let wob = SetPoint::Wob;
+        assert!(super::check(&e, wob, OperatingPoint::hook_load(6.0, 50e3), 1.5).0);
+        let (pass, why) = super::check(&e, wob, OperatingPoint::hook_load(6.0, 70e3), 1.5);
+        assert!(
+            !pass && why.contains("WOB = 70.00 kN outside [40.00, 60.00]"),
             "{why}"
         );
     }

@@ -3,7 +3,7 @@
 //! (nominal sample).
 
 use super::study;
-use crate::model::OperatingPoint;
+use crate::model::{OperatingPoint, SetPoint};
 use crate::problem::{Dimension, Problem};
 use crate::report;
 use crate::report::{CompareJson, StudyHeader, WorkJson};
@@ -17,35 +17,42 @@ use std::time::Instant;
 pub struct CompareArgs {
     /// Problem file (TOML); its [uncertain] samples, [objective] and [constraints] apply.
     pub problem: PathBuf,
-    /// An operating point "OMEGA,V0", each with its unit, e.g. 60rpm,5m/h (repeat the flag);
-    /// points outside the problem's constraints are evaluated and reported infeasible.
+    /// An operating point "OMEGA,V0", each with its unit, e.g. 60rpm,5m/h, or "OMEGA,WOB" under
+    /// top = "hook_load", e.g. 60rpm,50kN (repeat the flag); points outside the problem's
+    /// constraints are evaluated and reported infeasible.
     #[arg(long = "point", required = true)]
     pub points: Vec<String>,
     #[command(flatten)]
     pub run: super::study::RunArgs,
 }
 
-pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
+/// `--point OMEGA,S` with the set-point S of `kind`: V0 (`60rpm,5m/h`) or the WOB (`60rpm,50kN`).
+pub fn parse_point(text: &str, kind: SetPoint) -> anyhow::Result<OperatingPoint> {
+    let example = match kind {
+        SetPoint::Feed => "OMEGA,V0 such as 60rpm,5m/h",
+        SetPoint::Wob => "OMEGA,WOB such as 60rpm,50kN (this problem's top is a hook load)",
+    };
     let (w, v) = text
         .split_once(',')
-        .with_context(|| format!("--point {text}: expected OMEGA,V0 such as 60rpm,5m/h"))?;
+        .with_context(|| format!("--point {text}: expected {example}"))?;
+    let what = match kind {
+        SetPoint::Feed => "axial velocity",
+        SetPoint::Wob => "WOB set-point",
+    };
     // The same rule as simulate's --omega and --v0: a bare number is refused (0 needs no unit).
     super::simulate::require_unit(
         &format!("--point {text}: rotation speed"),
         w,
         Dimension::AngularVelocity,
     )?;
-    super::simulate::require_unit(
-        &format!("--point {text}: axial velocity"),
-        v,
-        Dimension::Velocity,
-    )?;
+    super::simulate::require_unit(&format!("--point {text}: {what}"), v, kind.dimension())?;
     let omega = Dimension::AngularVelocity
         .parse(w.trim())
         .with_context(|| format!("--point {text}: rotation speed"))?;
-    let v0 = Dimension::Velocity
+    let s = kind
+        .dimension()
         .parse(v.trim())
-        .with_context(|| format!("--point {text}: axial velocity"))?;
+        .with_context(|| format!("--point {text}: {what}"))?;
     // The ranges of the problem keys, as for `--omega` and `--v0` (`1e-300rpm` printed
     // 280-digit scores, `1e308rpm` an "inf" row).
     super::simulate::in_range(
@@ -55,12 +62,12 @@ pub fn parse_point(text: &str) -> anyhow::Result<OperatingPoint> {
         omega,
     )?;
     super::simulate::in_range(
-        &format!("--point {text}: axial velocity"),
-        "operating_point.v0",
+        &format!("--point {text}: {what}"),
+        &format!("operating_point.{}", kind.key()),
         v,
-        v0,
+        s,
     )?;
-    Ok(OperatingPoint { omega, v0 })
+    Ok(OperatingPoint::of(kind, omega, s))
 }
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
@@ -73,7 +80,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let ops = args
         .points
         .iter()
-        .map(|p| parse_point(p))
+        .map(|p| parse_point(p, problem.model.top.set_point()))
         .collect::<anyhow::Result<Vec<_>>>()?;
     let out = study::out_dir(&args.run.out, &problem, "compare")?;
     let clock = Instant::now();
@@ -92,9 +99,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         .iter()
         .map(|op| {
             let label = format!(
-                "{:.0} rpm, {:.1} m/h",
+                "{:.0} rpm, {:.1} {}",
                 crate::units::to_rpm(op.omega),
-                crate::units::to_m_per_h(op.v0)
+                op.shown_set_point(),
+                op.kind().unit()
             );
             sim::run_problem(
                 &problem,
@@ -123,29 +131,38 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
 
 #[cfg(test)]
 mod tests {
+    use crate::model::SetPoint;
     #[test]
     fn points_parse_with_units_and_bad_ones_are_refused() {
-        let p = super::parse_point("60rpm, 5m/h").unwrap();
+        let p = super::parse_point("60rpm, 5m/h", SetPoint::Feed).unwrap();
         assert!((p.omega - 2.0 * std::f64::consts::PI).abs() < 1e-12);
         assert!((p.v0 - 5.0 / 3600.0).abs() < 1e-15);
-        assert!(super::parse_point("60rpm").is_err());
-        assert!(super::parse_point("60rpm,-5m/h").is_err());
-        assert!(super::parse_point("60 furlongs,5m/h").is_err());
+        assert!(super::parse_point("60rpm", SetPoint::Feed).is_err());
+        assert!(super::parse_point("60rpm,-5m/h", SetPoint::Feed).is_err());
+        assert!(super::parse_point("60 furlongs,5m/h", SetPoint::Feed).is_err());
         // Bare numbers would be rad/s and m/s (60 → 573 rpm, 5 → 18 000 m/h): refused.
-        let err = super::parse_point("60,5").unwrap_err().to_string();
+        let err = super::parse_point("60,5", SetPoint::Feed)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("no unit"), "{err}");
-        assert!(super::parse_point("60rpm,5").is_err());
+        assert!(super::parse_point("60rpm,5", SetPoint::Feed).is_err());
         // 0 is 0 in every unit: off bottom needs none.
-        assert_eq!(super::parse_point("60rpm,0").unwrap().v0, 0.0);
+        assert_eq!(
+            super::parse_point("60rpm,0", SetPoint::Feed).unwrap().v0,
+            0.0
+        );
         // The point is converted by the one conversion of the driller's units: the same bits as
         // units::from_rpm / from_m_per_h (the cache key of a solved point, issue 13).
-        let p = super::parse_point("80rpm,12m/h").unwrap();
+        let p = super::parse_point("80rpm,12m/h", SetPoint::Feed).unwrap();
         assert_eq!(p.omega.to_bits(), crate::units::from_rpm(80.0).to_bits());
         assert_eq!(p.v0.to_bits(), crate::units::from_m_per_h(12.0).to_bits());
         // Off bottom (V0 = 0) is a drilling state like any other; a negative V0 is not.
-        assert_eq!(super::parse_point("60rpm,0m/h").unwrap().v0, 0.0);
-        assert!(super::parse_point("60rpm,-1m/h").is_err());
-        assert!(super::parse_point("0rpm,5m/h").is_err());
+        assert_eq!(
+            super::parse_point("60rpm,0m/h", SetPoint::Feed).unwrap().v0,
+            0.0
+        );
+        assert!(super::parse_point("60rpm,-1m/h", SetPoint::Feed).is_err());
+        assert!(super::parse_point("0rpm,5m/h", SetPoint::Feed).is_err());
         // Issue 34: the ranges of operating_point.omega and .v0, said in the driller's units.
         for (bad, key, range) in [
             ("1e-300rpm,5m/h", "operating_point.omega", "[1, 1000] rpm"),
@@ -161,7 +178,9 @@ mod tests {
                 "0 or in [0.1, 1000] m/h",
             ),
         ] {
-            let err = super::parse_point(bad).unwrap_err().to_string();
+            let err = super::parse_point(bad, SetPoint::Feed)
+                .unwrap_err()
+                .to_string();
             assert!(
                 err.contains(&format!("--point {bad}"))
                     && err.contains(&format!("`{key}`"))

@@ -35,7 +35,7 @@ pub fn parse_grid(text: &str) -> anyhow::Result<[usize; 2]> {
             (Some(a), Some(b)) => Ok([a, b]),
             _ => anyhow::bail!("--grid {text}: each size must be an integer in [2, 200]"),
         },
-        _ => anyhow::bail!("--grid {text}: expected n_omega x n_v0, e.g. 15x15"),
+        _ => anyhow::bail!("--grid {text}: expected n_omega x n_set_point (V0 or WOB), e.g. 15x15"),
     }
 }
 
@@ -66,7 +66,8 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         header: StudyHeader::of(&problem, &args.problem),
         grid,
         omega_rad_s: &m.omega,
-        v0_m_s: &m.v0,
+        v0_m_s: (m.kind == crate::model::SetPoint::Feed).then_some(&m.set_point[..]),
+        wob_n: (m.kind == crate::model::SetPoint::Wob).then_some(&m.set_point[..]),
         points: m
             .points
             .iter()
@@ -92,13 +93,13 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
 /// `map.json`), a node outside the linear constraints included and said to be so.
 fn table(m: &MapOutcome) -> Vec<String> {
     let n_omega = m.omega.len();
-    let mut lines = vec![study::TABLE_HEADER.to_owned()];
+    let mut lines = vec![study::table_header(m.kind).to_owned()];
     lines.extend(m.points.iter().enumerate().map(|(k, p)| match p {
         Some(p) => study::table_row(p),
         None => format!(
             "{:7.1} {:8.2}   outside the linear constraints: not simulated",
             m.omega[k % n_omega] * report::RPM_PER_RAD_S,
-            m.v0[k / n_omega] * report::M_PER_H_PER_M_PER_S
+            m.kind.to_unit(m.set_point[k / n_omega])
         ),
     }));
     lines

@@ -25,6 +25,10 @@ pub struct PointArgs {
     /// off-bottom rotation; any other bare number is refused [default: the problem's].
     #[arg(long, allow_hyphen_values = true)]
     pub v0: Option<String>,
+    /// The hook load's WOB set-point with its unit, e.g. `50kN` (N, kN, klbf, lbf); only with
+    /// `top = "hook_load"`, whose set-point it is [default: the problem's].
+    #[arg(long, allow_hyphen_values = true)]
+    pub wob: Option<String>,
     /// Simulated duration, e.g. `90` (seconds) or `2s`, `1.5min` [default: simulation.duration];
     /// the analysis window starts after simulation.settling_time (at most half the duration).
     #[arg(long, allow_hyphen_values = true)]
@@ -100,6 +104,7 @@ pub(super) fn parse_override(
             let key = match flag {
                 "--omega" => "operating_point.omega",
                 "--v0" => "operating_point.v0",
+                "--wob" => "operating_point.wob",
                 _ => "simulation.duration",
             };
             if flag != "--duration" {
@@ -123,6 +128,7 @@ pub(super) fn in_range(what: &str, key: &str, text: &str, v: f64) -> anyhow::Res
     let (unit, factor) = match key {
         "operating_point.omega" => ("rpm", crate::units::from_rpm(1.0)),
         "operating_point.v0" => ("m/h", crate::units::from_m_per_h(1.0)),
+        "operating_point.wob" => ("kN", 1e3),
         _ => ("s", 1.0),
     };
     anyhow::ensure!(
@@ -144,16 +150,34 @@ pub(super) fn point_and_duration(
     let PointArgs {
         omega,
         v0,
+        wob,
         duration,
     } = args;
-    let op = OperatingPoint {
-        omega: parse_override(
-            omega,
-            "--omega",
-            Dimension::AngularVelocity,
-            problem.operating_point.omega,
-        )?,
-        v0: parse_override(v0, "--v0", Dimension::Velocity, problem.operating_point.v0)?,
+    let base = problem.operating_point;
+    let omega = parse_override(omega, "--omega", Dimension::AngularVelocity, base.omega)?;
+    // Each top takes its own set-point: the other one's flag would be silently unused.
+    let op = match problem.model.top.set_point() {
+        crate::model::SetPoint::Feed => {
+            anyhow::ensure!(
+                wob.is_none(),
+                "--wob is the set-point of top = \"hook_load\"; this problem's top takes --v0"
+            );
+            OperatingPoint::feed(
+                omega,
+                parse_override(v0, "--v0", Dimension::Velocity, base.v0)?,
+            )
+        }
+        crate::model::SetPoint::Wob => {
+            anyhow::ensure!(
+                v0.is_none(),
+                "--v0 is the feed of the other tops; under top = \"hook_load\" the set-point is --wob \
+                 (the rock and the string decide the feed)"
+            );
+            OperatingPoint::hook_load(
+                omega,
+                parse_override(wob, "--wob", Dimension::Force, base.wob)?,
+            )
+        }
     };
     let duration = parse_override(
         duration,
@@ -436,10 +460,14 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDr
         _ => format!("{} s simulated", s.duration_s),
     };
     println!(
-        "{}: Ω = {:.2} rpm, V0 = {:.3} m/h, {done} in {:.1} s ({} steps, {} rejected, min dt {:.2e} s)",
+        "{}: Ω = {:.2} rpm, {}, {done} in {:.1} s ({} steps, {} rejected, min dt {:.2e} s)",
         s.record.problem,
         s.operating_point.omega_rpm,
-        s.operating_point.v0_m_per_h,
+        if s.operating_point.wob_n != 0.0 {
+            format!("WOB set-point {:.3} kN", s.operating_point.wob_kn)
+        } else {
+            format!("V0 = {:.3} m/h", s.operating_point.v0_m_per_h)
+        },
         st.wall_time_s,
         st.steps,
         st.rejected_steps,

@@ -198,7 +198,7 @@ pub fn explore_evaluator<'a>(
 
 /// The terminal table of evaluated points.
 pub fn print_table(points: &[PointEvaluation]) {
-    println!("{TABLE_HEADER}");
+    println!("{}", table_header(kind_of(points)));
     for p in points {
         println!("{}", table_row(p));
     }
@@ -206,7 +206,7 @@ pub fn print_table(points: &[PointEvaluation]) {
 
 /// The terminal table of a multi-fidelity solve: every row marked with its fidelity.
 pub fn print_fidelity_table(points: &[PointEvaluation]) {
-    println!("fidelity {TABLE_HEADER}");
+    println!("fidelity {}", table_header(kind_of(points)));
     for p in points {
         println!("{:<8} {}", p.fidelity.name(), table_row(p));
     }
@@ -216,9 +216,11 @@ pub fn print_fidelity_table(points: &[PointEvaluation]) {
 pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str) {
     match best {
         Some(b) => println!(
-            "{label}: Ω = {:.1} rpm, V0 = {:.2} m/h, score {:.3}{} ({})",
+            "{label}: Ω = {:.1} rpm, {} = {:.2} {}, score {:.3}{} ({})",
             b.omega_rpm,
-            b.v0_m_per_h,
+            b.op().kind().symbol(),
+            b.op().shown_set_point(),
+            b.op().kind().unit(),
             b.objective.unwrap_or(f64::NAN),
             b.score_half_width
                 .map_or_else(String::new, |h| format!(" ± {h:.3}")),
@@ -247,7 +249,7 @@ pub(super) fn table_row(p: &PointEvaluation) -> String {
     format!(
         "{:7.1} {:8.2} {} {} {:4} {:8.3} {:6.2} {:7.2} {:9.1} {:8.1} {feasible}",
         p.omega_rpm,
-        p.v0_m_per_h,
+        p.op().shown_set_point(),
         score,
         half_width,
         p.samples_used,
@@ -259,8 +261,24 @@ pub(super) fn table_row(p: &PointEvaluation) -> String {
     )
 }
 
+/// The set-point of a table's points (a study's points share one).
+pub(super) fn kind_of(points: &[PointEvaluation]) -> crate::model::SetPoint {
+    points
+        .first()
+        .map_or(crate::model::SetPoint::Feed, |p| p.op().kind())
+}
+
 /// `V0`: the feed set-point (the autodriller's, which the bit reaches only below its limits; the
-/// ROP column is what it drilled); `±`: the half-width of the score's confidence interval (95 % unless
-/// `uncertain.sequential.confidence` says otherwise); `n`: the samples the point used.
-pub(super) const TABLE_HEADER: &str =
-    "    rpm   V0 m/h     score        ±    n  ROP m/h    SSI stick %  impacts/s  WOB kN feasible";
+/// ROP column is what it drilled), or under a hook load `WOB*`, the WOB set-point (the `WOB kN`
+/// column is the bit's mean WOB); `±`: the half-width of the score's confidence interval (95 %
+/// unless `uncertain.sequential.confidence` says otherwise); `n`: the samples the point used.
+pub(super) fn table_header(kind: crate::model::SetPoint) -> &'static str {
+    match kind {
+        crate::model::SetPoint::Feed => {
+            "    rpm   V0 m/h     score        ±    n  ROP m/h    SSI stick %  impacts/s  WOB kN feasible"
+        }
+        crate::model::SetPoint::Wob => {
+            "    rpm  WOB* kN     score        ±    n  ROP m/h    SSI stick %  impacts/s  WOB kN feasible"
+        }
+    }
+}

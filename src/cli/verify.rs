@@ -63,7 +63,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
     refinements.push(Refinement::Perturbed);
     if !args.quiet {
         eprintln!(
-            "verify {}: base run, {} refinements ({}) and the base at Ω·(1 + {:e}) at {:.1} rpm, {:.2} m/h, {duration} s …",
+            "verify {}: base run, {} refinements ({}) and the base at Ω·(1 + {:e}) at {:.1} rpm, {:.2} {}, {duration} s …",
             problem.name,
             refinements.len() - 1,
             refinements
@@ -74,7 +74,8 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
                 .join(", "),
             verify::PERTURBATION,
             op.omega * 60.0 / (2.0 * PI),
-            crate::units::to_m_per_h(op.v0)
+            op.shown_set_point(),
+            op.kind().unit()
         );
     }
     let quiet = args.quiet;

@@ -192,10 +192,11 @@ pub struct Metrics {
     /// Peak bit speed ratio max ω̄ / Ω of the averaged bit speed, dimensionless.
     pub max_bit_speed_ratio: f64,
     /// Share of time in [0, 1] with the bit off bottom (weight on bit = 0; tested as ≤ 0 so that a
-    /// rounding-level negative value also counts), dimensionless; 1 at V0 = 0 (off-bottom rotation).
+    /// rounding-level negative value also counts), dimensionless; 1 at V0 = 0 (off-bottom rotation;
+    /// a hook load, which has no V0, is on bottom).
     pub bit_bounce_fraction: f64,
-    /// Time-weighted standard deviation of the bit axial velocity u̇_bit divided by V0,
-    /// dimensionless; at V0 = 0, +∞ (0 for a bit at rest axially).
+    /// Time-weighted standard deviation of the bit axial velocity u̇_bit divided by V0 (under a
+    /// hook load by the mean ROP), dimensionless; at V0 = 0, +∞ (0 for a bit at rest axially).
     pub axial_velocity_fluctuation: f64,
     /// Wall impacts over all nodes per second (touch-downs after a separation of more than 1 % of
     /// the gap at a normal speed of at least `sim::IMPACT_SPEED` = 1 cm/s), 1/s.
@@ -319,8 +320,8 @@ pub struct Metrics {
     pub mean_top_force_n: f64,
     /// Mean ROP over the feed set-point V0, dimensionless (MODEL.md §11.8): 1 under the imposed
     /// feed (to the settling of the window's ends); below 1 under an autodriller whenever a limit
-    /// or the dynamics cost footage. 0 at V0 = 0 by definition (off-bottom rotation has no
-    /// set-point; series metrics are never NaN).
+    /// or the dynamics cost footage. 0 at V0 = 0 by definition (off-bottom rotation and a hook
+    /// load have no feed set-point; series metrics are never NaN).
     pub rop_set_point_ratio: f64,
     /// The share of the feed set-point the bit did not drill, 1 − mean ROP / V0, dimensionless:
     /// what a set-point above what the rock and the rig allow asks for in vain (a risk term that

@@ -210,8 +210,13 @@ impl Window {
         let mean_wob = self.sums[WOB] / window;
         let mean_tob = self.sums[TOB] / window;
         let bit_area = PI * config.borehole_radius * config.borehole_radius;
+        // A hook load has no feed set-point: it is on bottom (its WOB set-point is > 0, the
+        // simulator refuses 0), and its feed is the ROP it drills.
+        let hook_load = matches!(config.top, crate::model::TopDrive::HookLoad);
+        let on_bottom = config.v0 > 0.0 || hook_load;
+        let feed = if hook_load { mean_rop } else { config.v0 };
         // No feed, no rock cut: an off-bottom window's elastic axial motion is not drilling.
-        let mse = if config.v0 > 0.0 && mean_rop > 0.0 {
+        let mse = if on_bottom && mean_rop > 0.0 {
             let revs_per_s = omega / (2.0 * PI);
             mean_wob / bit_area + 2.0 * PI * revs_per_s * mean_tob / (bit_area * mean_rop)
         } else {
@@ -231,7 +236,7 @@ impl Window {
         };
         let onsets = last.onsets as f64 - first.onsets as f64;
         let fluctuation = match &self.velocity {
-            Some((t, u)) => relative_to_feed(super::time_average::std_dev(t, u), config.v0),
+            Some((t, u)) => relative_to_feed(super::time_average::std_dev(t, u), feed),
             None => f64::NAN,
         };
         let (max_spin, min_spin) = self.spin;
@@ -244,7 +249,7 @@ impl Window {
             max_bit_speed_ratio: max_spin / omega,
             // Off-bottom rotation is off bottom by definition: the WOB of its elastic axial
             // motion is round-off (1e-9 N on the tiny string), and its sign would decide the share.
-            bit_bounce_fraction: if config.v0 > 0.0 {
+            bit_bounce_fraction: if on_bottom {
                 self.sums[BOUNCE] / window
             } else {
                 1.0

@@ -141,13 +141,145 @@ impl Mesh {
     }
 }
 
-/// Imposed motion at the top drive (MODEL.md §4).
+/// What the driller sets at the top drive (MODEL.md §4, §11.8): the rotation speed and the
+/// set-point of the top's law, the feed V0 (tops `feed` and `autodriller`) or the hook load's
+/// WOB (top `hook_load`). Each top reads its own set-point; the other is 0.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct OperatingPoint {
     /// Rotation speed Ω, rad/s.
     pub omega: f64,
-    /// Imposed axial velocity V0, m/s.
+    /// Imposed axial velocity V0 (the feed, or the autodriller's set-point), m/s; 0 under a
+    /// hook load.
     pub v0: f64,
+    /// The hook load's surface WOB set-point W, N (> 0 pushes towards the bit); 0 under the
+    /// other tops.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub wob: f64,
+}
+
+impl OperatingPoint {
+    /// Ω (rad/s) with a feed or autodriller set-point V0 (m/s).
+    pub const fn feed(omega: f64, v0: f64) -> Self {
+        OperatingPoint {
+            omega,
+            v0,
+            wob: 0.0,
+        }
+    }
+
+    /// Ω (rad/s) with a hook load's WOB set-point W (N).
+    pub const fn hook_load(omega: f64, wob: f64) -> Self {
+        OperatingPoint {
+            omega,
+            v0: 0.0,
+            wob,
+        }
+    }
+
+    /// The point snapped to its canonical bits (Ω in rpm, V0 in m/h and the WOB in kN rounded to
+    /// [`crate::units::POINT_DIGITS`] significant digits, [`crate::units::canonical_point`]): the
+    /// same point reached by different arithmetic is the same evaluation-cache entry.
+    pub fn canonical(&self) -> Self {
+        let (omega, v0) = crate::units::canonical_point(self.omega, self.v0);
+        OperatingPoint {
+            omega,
+            v0,
+            wob: 1e3 * crate::units::round_point(self.wob / 1e3),
+        }
+    }
+
+    /// Which set-point the point carries: the WOB when it has one (a hook load's is > 0), else
+    /// the feed.
+    pub fn kind(&self) -> SetPoint {
+        if self.wob != 0.0 {
+            SetPoint::Wob
+        } else {
+            SetPoint::Feed
+        }
+    }
+
+    /// Its own set-point ([`Self::kind`]) in the unit it is shown in: V0 in m/h, or the WOB in kN.
+    pub fn shown_set_point(&self) -> f64 {
+        let kind = self.kind();
+        kind.to_unit(self.set_point(kind))
+    }
+
+    /// The set-point of `kind`: V0 (m/s) or W (N).
+    pub fn set_point(&self, kind: SetPoint) -> f64 {
+        match kind {
+            SetPoint::Feed => self.v0,
+            SetPoint::Wob => self.wob,
+        }
+    }
+
+    /// The point at Ω (rad/s) with the set-point `value` of `kind` (m/s or N).
+    pub fn of(kind: SetPoint, omega: f64, value: f64) -> Self {
+        match kind {
+            SetPoint::Feed => Self::feed(omega, value),
+            SetPoint::Wob => Self::hook_load(omega, value),
+        }
+    }
+}
+
+/// The driller's second design variable besides Ω, which the top decides
+/// ([`crate::model::TopDrive::set_point`]): the feed V0 or the hook load's WOB.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SetPoint {
+    /// V0, m/s (shown in m/h; key `v0`).
+    Feed,
+    /// The surface WOB W, N (shown in kN; key `wob`).
+    Wob,
+}
+
+impl SetPoint {
+    /// The problem file's key of the set-point (`[operating_point]`, `[constraints]`, `[expect]`).
+    pub fn key(self) -> &'static str {
+        match self {
+            SetPoint::Feed => "v0",
+            SetPoint::Wob => "wob",
+        }
+    }
+
+    /// Its symbol in tables and plots.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            SetPoint::Feed => "V0",
+            SetPoint::Wob => "WOB",
+        }
+    }
+
+    /// The unit it is shown in.
+    pub fn unit(self) -> &'static str {
+        match self {
+            SetPoint::Feed => "m/h",
+            SetPoint::Wob => "kN",
+        }
+    }
+
+    /// SI (m/s or N) to the shown unit.
+    pub fn to_unit(self, si: f64) -> f64 {
+        match self {
+            SetPoint::Feed => crate::units::to_m_per_h(si),
+            SetPoint::Wob => si / 1e3,
+        }
+    }
+
+    /// The shown unit to SI.
+    pub fn from_unit(self, x: f64) -> f64 {
+        match self {
+            SetPoint::Feed => crate::units::from_m_per_h(x),
+            SetPoint::Wob => x * 1e3,
+        }
+    }
+
+    /// The dimension of its value.
+    pub fn dimension(self) -> crate::units::Dimension {
+        match self {
+            SetPoint::Feed => crate::units::Dimension::Velocity,
+            SetPoint::Wob => crate::units::Dimension::Force,
+        }
+    }
 }
 
 /// Time window and outputs of one simulation.

@@ -8,7 +8,8 @@
 //! - [`TopDrive::Feed`], the paper's imposed feed s = V0 t: the mean rate of penetration is V0
 //!   whatever the rock does.
 //! - [`TopDrive::HookLoad`], a constant top force: the hook holds the string with a constant load,
-//!   so the force the top drive pushes on the string, F_top, is the set-point `wob` (Ritto, Soize
+//!   so the force the top drive pushes on the string, F_top, is the set-point W
+//!   ([`crate::model::OperatingPoint::wob`], `[operating_point] wob`) (Ritto, Soize
 //!   & Sampaio, Int. J. Non-Linear Mech. 44, 2009 and 2010, optimise Ω and this force). s is a
 //!   degree of freedom of its own; the rock and the string decide how fast it advances.
 //! - [`TopDrive::Autodriller`], a driller's autodriller in rate-of-penetration mode with a WOB and
@@ -41,11 +42,8 @@ use crate::units::Range;
 pub enum TopDrive {
     /// u(0, t) = V0 t (the paper's).
     Feed,
-    /// F_top = `wob`, constant, N.
-    HookLoad {
-        /// The top force, the surface WOB set-point, N (> 0 pushes towards the bit).
-        wob: f64,
-    },
+    /// F_top = W, constant: the set-point [`crate::model::OperatingPoint::wob`], N.
+    HookLoad,
     /// The block at V0 unless the surface WOB or torque exceeds its limit (module doc).
     Autodriller(Autodriller),
 }
@@ -109,11 +107,20 @@ impl TopDrive {
         matches!(self, TopDrive::Feed)
     }
 
+    /// The driller's second design variable under this top: the hook load's WOB, else the feed
+    /// V0 (the imposed feed's, or the autodriller's set-point).
+    pub fn set_point(&self) -> crate::model::SetPoint {
+        match self {
+            TopDrive::HookLoad => crate::model::SetPoint::Wob,
+            _ => crate::model::SetPoint::Feed,
+        }
+    }
+
     /// The problem file's name of the law.
     pub fn name(&self) -> &'static str {
         match self {
             TopDrive::Feed => "feed",
-            TopDrive::HookLoad { .. } => "hook_load",
+            TopDrive::HookLoad => "hook_load",
             TopDrive::Autodriller(_) => "autodriller",
         }
     }

@@ -149,6 +149,7 @@ mod tests {
         let op = OperatingPoint {
             omega: 2.0 * std::f64::consts::PI,
             v0: 1.0 / 720.0,
+            wob: 0.0,
         };
         let s = SoftString::steady(&string, op);
         let w_b = Section::of(&string).weight_mass() * string.gravity;

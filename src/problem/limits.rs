@@ -93,6 +93,9 @@ pub fn range_of(key: &str) -> Option<Range> {
             crate::units::from_m_per_h(1000.0),
             "0 is off-bottom rotation; else from 0.1 m/h, slower than any rock is drilled, to at most 1000 m/h",
         ),
+        // The hook load's WOB set-point (top = "hook_load"): the one range of the file key, its
+        // bounds and `--point`.
+        "operating_point.wob" => crate::model::WOB_RANGE,
         // Depth of cut per revolution 2π V0/Ω: a limit below 1 µm is finer than any cutter's
         // edge, above 10 cm taller than any cutter (PDC cutters are 8-19 mm).
         "constraints.max_depth_of_cut" => closed(

@@ -165,7 +165,8 @@ pub struct BasisSection {
 #[serde(deny_unknown_fields)]
 pub struct OperatingPointSection {
     pub omega: RawQuantity,
-    pub v0: RawQuantity,
+    /// The feed (tops `feed`, `autodriller`; required there, refused under a hook load).
+    pub v0: Option<RawQuantity>,
     /// `"feed"` (default), `"hook_load"` or `"autodriller"` (MODEL.md §11.8).
     pub top: Option<RawQuantity>,
     /// The hook-load top's surface WOB set-point.

@@ -75,7 +75,10 @@ pub struct RawRisk {
 #[serde(deny_unknown_fields)]
 pub struct ConstraintsSection {
     pub omega: Vec<RawQuantity>,
-    pub v0: Vec<RawQuantity>,
+    /// Bounds of the feed set-point (tops `feed`, `autodriller`).
+    pub v0: Option<Vec<RawQuantity>>,
+    /// Bounds of the hook load's WOB set-point (top `hook_load`).
+    pub wob: Option<Vec<RawQuantity>>,
     pub max_depth_of_cut: Option<RawQuantity>,
     #[serde(default)]
     pub linear: Vec<RawLinear>,
@@ -87,7 +90,10 @@ pub struct ConstraintsSection {
 #[serde(deny_unknown_fields)]
 pub struct RawLinear {
     pub omega: f64,
-    pub v0: f64,
+    /// Coefficient of V0 (feed tops), per m/s.
+    pub v0: Option<f64>,
+    /// Coefficient of the WOB (hook load), per N.
+    pub wob: Option<f64>,
     pub upper: f64,
 }
 
@@ -121,11 +127,15 @@ pub struct OptimizerSection {
 #[serde(deny_unknown_fields)]
 pub struct ExpectSection {
     pub omega: Vec<RawQuantity>,
-    pub v0: Vec<RawQuantity>,
+    /// The feed set-point's range (feed tops).
+    pub v0: Option<Vec<RawQuantity>>,
+    /// The WOB set-point's range (hook load).
+    pub wob: Option<Vec<RawQuantity>>,
     pub objective: Option<Vec<f64>>,
     pub reason: String,
     /// The constraints that hold the expected optimum: `"omega.min"`, `"omega.max"`, `"v0.min"`,
-    /// `"v0.max"`, `"max_depth_of_cut"`, `"chance.<metric>"`; `[]` for none.
+    /// `"v0.max"` (`"wob.min"`, `"wob.max"` under a hook load), `"max_depth_of_cut"`,
+    /// `"chance.<metric>"`; `[]` for none.
     pub active: Option<Vec<String>>,
 }
 
@@ -176,23 +186,26 @@ pub struct ChanceConstraint {
     pub max_probability: f64,
 }
 
-/// a_Ω Ω + a_V V0 ≤ upper (Ω in rad/s, V0 in m/s).
+/// a_Ω Ω + a_s s ≤ upper (Ω in rad/s; the set-point s in SI: V0 in m/s, or the WOB in N).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LinearConstraint {
     pub omega: f64,
-    pub v0: f64,
+    /// a_s, per unit of the set-point (per m/s or per N).
+    pub set_point: f64,
     pub upper: f64,
     /// Where it came from, for reports (e.g. "max_depth_of_cut").
     pub label: &'static str,
 }
 
-/// Bounds and linear constraints on (Ω, V0), plus chance constraints on metrics.
+/// Bounds and linear constraints on (Ω, set-point), plus chance constraints on metrics.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Constraints {
     /// [min, max] of Ω, rad/s.
     pub omega: [f64; 2],
-    /// [min, max] of V0, m/s.
-    pub v0: [f64; 2],
+    /// What the second design variable is (the problem's top decides: V0 or the WOB).
+    pub kind: crate::model::SetPoint,
+    /// [min, max] of the set-point, SI (V0 in m/s, the WOB in N).
+    pub set_point: [f64; 2],
     pub linear: Vec<LinearConstraint>,
     pub chance: Vec<ChanceConstraint>,
 }
@@ -218,22 +231,23 @@ pub enum ActiveConstraint {
     OmegaMin,
     /// The upper bound of Ω (`"omega.max"`).
     OmegaMax,
-    /// The lower bound of V0 (`"v0.min"`).
-    V0Min,
-    /// The upper bound of V0 (`"v0.max"`).
-    V0Max,
+    /// The lower bound of the set-point (`"v0.min"`, `"wob.min"`).
+    SetPointMin,
+    /// The upper bound of the set-point (`"v0.max"`, `"wob.max"`).
+    SetPointMax,
     /// A linear constraint, by its label (`"max_depth_of_cut"`).
     Linear(&'static str),
     /// A chance constraint, by its metric (`"chance.buckling_utilization"`).
     Chance(String),
 }
 
-/// The optimum a regression problem is known to have: Ω in rad/s, V0 in m/s, the score in the
-/// objective's unit, each a closed range [min, max].
+/// The optimum a regression problem is known to have: Ω in rad/s, the set-point in SI (V0 in
+/// m/s or the WOB in N, by [`Constraints::kind`]), the score in the objective's unit, each a
+/// closed range [min, max].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Expect {
     pub omega: [f64; 2],
-    pub v0: [f64; 2],
+    pub set_point: [f64; 2],
     pub objective: Option<[f64; 2]>,
     pub reason: String,
     /// The constraints that hold the optimum, as declared (`None`: not declared; empty: an

@@ -473,8 +473,8 @@ pub(super) fn problem(
     let c = Checker::new(file, shape);
     let model = c.section(drillstring(&c, &raw.model));
     let mesh = c.section(mesh(&c, &raw.mesh));
-    let operating_point = c.section(operating_point(&c, &raw.operating_point));
     let top = c.section(super::validate_top::top(&c, &raw.operating_point));
+    let operating_point = c.section(operating_point(&c, &raw.operating_point, top));
     let mut model = model;
     if let (Some(m), Some(top)) = (model.as_mut(), top) {
         m.top = top;
@@ -945,16 +945,53 @@ pub(super) fn family_size(
     }
 }
 
-fn operating_point(c: &Checker, o: &OperatingPointSection) -> Result<OperatingPoint, ProblemError> {
-    Ok(OperatingPoint {
-        omega: c.positive(
-            "operating_point.omega",
-            &o.omega,
-            Dimension::AngularVelocity,
-        )?,
+/// The operating point of `[operating_point]` under `top` (the feed when the top was refused):
+/// Ω with the feed V0 (tops `feed`, `autodriller`) or the hook load's WOB set-point; the
+/// other top's set-point is refused, not ignored.
+fn operating_point(
+    c: &Checker,
+    o: &OperatingPointSection,
+    top: Option<crate::model::TopDrive>,
+) -> Result<OperatingPoint, ProblemError> {
+    let omega = c.positive(
+        "operating_point.omega",
+        &o.omega,
+        Dimension::AngularVelocity,
+    )?;
+    if matches!(top, Some(crate::model::TopDrive::HookLoad)) {
+        if o.v0.is_some() {
+            c.record(
+                "operating_point.v0",
+                "is the feed of the other tops: under top = \"hook_load\" the set-point is wob \
+                 and the rock and the string decide the feed; remove it"
+                    .into(),
+            );
+        }
+        let wob = match &o.wob {
+            Some(raw) => c.value_as(
+                "operating_point.wob",
+                "operating_point.wob",
+                raw,
+                Dimension::Force,
+            ),
+            None => c.record(
+                "operating_point.wob",
+                "is required with top = \"hook_load\": the surface WOB set-point (e.g. \"50 kN\")"
+                    .into(),
+            ),
+        };
+        return Ok(OperatingPoint::hook_load(omega, wob));
+    }
+    let v0 = match &o.v0 {
         // V0 = 0 is off-bottom rotation, a normal drilling state.
-        v0: c.non_negative("operating_point.v0", &o.v0, Dimension::Velocity)?,
-    })
+        Some(raw) => c.non_negative("operating_point.v0", raw, Dimension::Velocity)?,
+        None => c.record(
+            "operating_point.v0",
+            "is required: the feed V0 (e.g. \"5 m/h\"; with top = \"hook_load\" the set-point is wob instead)"
+                .into(),
+        ),
+    };
+    Ok(OperatingPoint::feed(omega, v0))
 }
 
 fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulation, ProblemError> {

@@ -1,24 +1,29 @@
 //! Validation of `[expect]`, the optimum a regression problem is known to have: the ranges of Ω,
-//! V0 and the score, the reason, and the constraints declared to hold the optimum (`active`),
+//! the set-point (V0, or the WOB under a hook load) and the score, the reason, and the constraints declared to hold the optimum (`active`),
 //! checked against the problem's own constraints and the expected ranges.
 
 use super::ProblemError;
 use super::study::{ActiveConstraint, Constraints, Expect, ExpectSection};
 use super::validate::Checker;
-use super::validate_study::range;
+use super::validate_study::{range, set_point_range};
+use crate::model::SetPoint;
 
-/// The names `[expect] active` accepts besides `chance.<metric>` and the linear labels.
-const BOUNDS: [(&str, ActiveConstraint); 4] = [
-    ("omega.min", ActiveConstraint::OmegaMin),
-    ("omega.max", ActiveConstraint::OmegaMax),
-    ("v0.min", ActiveConstraint::V0Min),
-    ("v0.max", ActiveConstraint::V0Max),
-];
+/// The names `[expect] active` accepts besides `chance.<metric>` and the linear labels: the
+/// bounds of Ω and of the set-point of `kind` (`v0.*`, or `wob.*` under a hook load).
+fn bounds(kind: SetPoint) -> [(String, ActiveConstraint); 4] {
+    [
+        ("omega.min".into(), ActiveConstraint::OmegaMin),
+        ("omega.max".into(), ActiveConstraint::OmegaMax),
+        (format!("{}.min", kind.key()), ActiveConstraint::SetPointMin),
+        (format!("{}.max", kind.key()), ActiveConstraint::SetPointMax),
+    ]
+}
 
 pub(super) fn expect(
     c: &Checker,
     e: &ExpectSection,
     constraints: Option<&Constraints>,
+    kind: SetPoint,
 ) -> Result<Expect, ProblemError> {
     use super::Dimension::*;
     let omega = range(
@@ -28,7 +33,7 @@ pub(super) fn expect(
         &e.omega,
         AngularVelocity,
     )?;
-    let v0 = range(c, "expect.v0", "operating_point.v0", &e.v0, Velocity)?;
+    let set_point = set_point_range(c, "expect", kind, &e.v0, &e.wob)?;
     let objective = match &e.objective {
         None => None,
         Some(o) if o.len() == 2 && o[0].is_finite() && o[1].is_finite() && o[0] <= o[1] => {
@@ -51,11 +56,11 @@ pub(super) fn expect(
         (None, _) => None,
         // Without [constraints] the study refuses `[expect]` itself, naming that section.
         (Some(_), None) => Some(Vec::new()),
-        (Some(names), Some(k)) => Some(active(c, names, k, omega, v0)?),
+        (Some(names), Some(k)) => Some(active(c, names, k, omega, set_point)?),
     };
     Ok(Expect {
         omega,
-        v0,
+        set_point,
         objective,
         reason: e.reason.clone(),
         active,
@@ -69,10 +74,11 @@ fn active(
     names: &[String],
     k: &Constraints,
     omega: [f64; 2],
-    v0: [f64; 2],
+    set_point: [f64; 2],
 ) -> Result<Vec<ActiveConstraint>, ProblemError> {
+    let bounds = bounds(k.kind);
     let allowed = || {
-        let mut all: Vec<String> = BOUNDS.iter().map(|(n, _)| format!("\"{n}\"")).collect();
+        let mut all: Vec<String> = bounds.iter().map(|(n, _)| format!("\"{n}\"")).collect();
         all.extend(k.linear.iter().map(|l| format!("\"{}\"", l.label)));
         all.extend(k.chance.iter().map(|x| format!("\"chance.{}\"", x.metric)));
         all.dedup();
@@ -81,7 +87,7 @@ fn active(
     let mut out = Vec::new();
     for (i, name) in names.iter().enumerate() {
         let key = format!("expect.active[{i}]");
-        let found = if let Some((_, b)) = BOUNDS.iter().find(|(n, _)| n == name) {
+        let found = if let Some((_, b)) = bounds.iter().find(|(n, _)| n == name) {
             Some(b.clone())
         } else if let Some(metric) = name.strip_prefix("chance.") {
             k.chance
@@ -108,7 +114,7 @@ fn active(
         }
         out.push(found);
     }
-    if [omega, v0, k.omega, k.v0]
+    if [omega, set_point, k.omega, k.set_point]
         .iter()
         .flatten()
         .any(|x| x.is_nan())
@@ -116,29 +122,26 @@ fn active(
         return Ok(out); // a range or bound was refused where read: not checked again
     }
     let reaches = |x: f64, bound: f64| (x - bound).abs() <= 1e-9 * bound.abs();
+    let expect_key = format!("expect.{}", k.kind.key());
     let checks = [
         (
-            "omega.min",
             "expect.omega",
             omega[0] <= k.omega[0] || reaches(omega[0], k.omega[0]),
         ),
         (
-            "omega.max",
             "expect.omega",
             omega[1] >= k.omega[1] || reaches(omega[1], k.omega[1]),
         ),
         (
-            "v0.min",
-            "expect.v0",
-            v0[0] <= k.v0[0] || reaches(v0[0], k.v0[0]),
+            expect_key.as_str(),
+            set_point[0] <= k.set_point[0] || reaches(set_point[0], k.set_point[0]),
         ),
         (
-            "v0.max",
-            "expect.v0",
-            v0[1] >= k.v0[1] || reaches(v0[1], k.v0[1]),
+            expect_key.as_str(),
+            set_point[1] >= k.set_point[1] || reaches(set_point[1], k.set_point[1]),
         ),
     ];
-    for ((name, range_key, reached), (_, bound)) in checks.into_iter().zip(BOUNDS.iter()) {
+    for ((range_key, reached), (name, bound)) in checks.into_iter().zip(bounds.iter()) {
         let declared = out.contains(bound);
         if declared && !reached {
             return Err(c.fail(

@@ -6,7 +6,7 @@ use super::schema::{ProblemFile, RawQuantity};
 use super::study::*;
 use super::validate::Checker;
 use super::validate_threshold::threshold;
-use crate::model::Drillstring;
+use crate::model::{Drillstring, SetPoint};
 use crate::stats::Distribution;
 use crate::stats::Statistic;
 use std::f64::consts::PI;
@@ -33,16 +33,18 @@ pub(super) fn study(
         None => (Quantity::Rop, Statistic::Mean, Vec::new()),
         Some(o) => objective(c, o)?,
     };
+    // The second design variable: V0, or the WOB under a hook load.
+    let kind = model.top.set_point();
     let constraints = raw
         .constraints
         .as_ref()
-        .map(|k| constraints(c, k))
+        .map(|k| constraints(c, k, kind))
         .transpose()?;
-    let optimizer = optimizer(c, raw.optimizer.as_ref(), constraints.as_ref())?;
+    let optimizer = optimizer(c, raw.optimizer.as_ref(), constraints.as_ref(), kind)?;
     let expect = raw
         .expect
         .as_ref()
-        .map(|e| super::validate_expect::expect(c, e, constraints.as_ref()))
+        .map(|e| super::validate_expect::expect(c, e, constraints.as_ref(), kind))
         .transpose()?;
     // Risk terms and chance constraints penalise large values: the safety factor and the
     // critical speed margin (larger is safer) are refused there, in favour of their inverses;
@@ -504,6 +506,60 @@ pub(super) fn range(
     Ok([lo, hi])
 }
 
+/// The pair `[min, max]` of the set-point under `{section}.v0` or `{section}.wob`, by `kind` (the
+/// problem's top): the other top's key is refused, the kind's own is required.
+pub(super) fn set_point_range(
+    c: &Checker,
+    section: &str,
+    kind: SetPoint,
+    v0: &Option<Vec<RawQuantity>>,
+    wob: &Option<Vec<RawQuantity>>,
+) -> Result<[f64; 2], ProblemError> {
+    let (own, other) = match kind {
+        SetPoint::Feed => (v0, wob),
+        SetPoint::Wob => (wob, v0),
+    };
+    let other_kind = match kind {
+        SetPoint::Feed => SetPoint::Wob,
+        SetPoint::Wob => SetPoint::Feed,
+    };
+    if other.is_some() {
+        c.record(
+            &format!("{section}.{}", other_kind.key()),
+            format!(
+                "belongs to {}: this problem's top makes the set-point {} ({section}.{}); remove it",
+                match other_kind {
+                    SetPoint::Wob => "top = \"hook_load\"",
+                    SetPoint::Feed => "the feed tops (\"feed\", \"autodriller\")",
+                },
+                kind.symbol(),
+                kind.key()
+            ),
+        );
+    }
+    let key = format!("{section}.{}", kind.key());
+    match own {
+        Some(raw) => range(
+            c,
+            &key,
+            &format!("operating_point.{}", kind.key()),
+            raw,
+            kind.dimension(),
+        ),
+        None => Err(c.fail(
+            &key,
+            format!(
+                "is required: the range [min, max] of {} (e.g. {})",
+                kind.symbol(),
+                match kind {
+                    SetPoint::Feed => "[\"2 m/h\", \"20 m/h\"]",
+                    SetPoint::Wob => "[\"20 kN\", \"120 kN\"]",
+                }
+            ),
+        )),
+    }
+}
+
 /// A value as the file has it: a string as typed, a bare number with its SI unit.
 fn as_typed(raw: &RawQuantity, dim: super::Dimension) -> String {
     match raw {
@@ -519,7 +575,11 @@ const LINEAR_MAX: f64 = 1e9;
 /// Smallest magnitude of a non-zero coefficient: below it the row's norm is lost to round-off.
 const LINEAR_MIN: f64 = 1e-9;
 
-fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, ProblemError> {
+fn constraints(
+    c: &Checker,
+    k: &ConstraintsSection,
+    kind: SetPoint,
+) -> Result<Constraints, ProblemError> {
     use super::Dimension::*;
     let omega = range(
         c,
@@ -528,14 +588,22 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
         &k.omega,
         AngularVelocity,
     )?;
-    let v0 = range(c, "constraints.v0", "operating_point.v0", &k.v0, Velocity)?;
+    let set_point = set_point_range(c, "constraints", kind, &k.v0, &k.wob)?;
     let mut linear = Vec::new();
-    if let Some(d) = &k.max_depth_of_cut {
+    if k.max_depth_of_cut.is_some() && kind == SetPoint::Wob {
+        c.record(
+            "constraints.max_depth_of_cut",
+            "is a line in (Omega, V0) (2 pi V0 / Omega <= d); under top = \"hook_load\" the \
+             design variables are Omega and the WOB: remove it (a chance constraint on \
+             depth_of_cut_mm limits the depth the bit cuts)"
+                .into(),
+        );
+    } else if let Some(d) = &k.max_depth_of_cut {
         // Depth of cut per revolution 2π V0 / Ω ≤ d  ⇔  2π V0 − d Ω ≤ 0 (Ω > 0).
         let d = c.positive("constraints.max_depth_of_cut", d, Length)?;
         linear.push(LinearConstraint {
             omega: -d,
-            v0: 2.0 * PI,
+            set_point: 2.0 * PI,
             upper: 0.0,
             label: "max_depth_of_cut",
         });
@@ -543,9 +611,26 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
     for (i, l) in k.linear.iter().enumerate() {
         let key = format!("constraints.linear[{i}]");
         let mut refused = false;
+        let (own, other, unit) = match kind {
+            SetPoint::Feed => (l.v0, l.wob, "per m/s"),
+            SetPoint::Wob => (l.wob, l.v0, "per N"),
+        };
+        if other.is_some() {
+            refused = true;
+            let other_key = if kind == SetPoint::Feed { "wob" } else { "v0" };
+            c.record(
+                &format!("{key}.{other_key}"),
+                format!(
+                    "is not a design variable of this problem (its set-point is {}): use {}",
+                    kind.symbol(),
+                    kind.key()
+                ),
+            );
+        }
+        let a_s = own.unwrap_or(0.0);
         for (name, v, unit) in [
             ("omega", l.omega, "per rad/s"),
-            ("v0", l.v0, "per m/s"),
+            (kind.key(), a_s, unit),
             ("upper", l.upper, "SI"),
         ] {
             let coefficient = name != "upper";
@@ -567,15 +652,18 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
         if refused {
             continue;
         }
-        if l.omega == 0.0 && l.v0 == 0.0 {
+        if l.omega == 0.0 && a_s == 0.0 {
             return Err(c.fail(
                 &key,
-                "needs a non-zero coefficient on omega or v0 (SI: per rad/s, per m/s)".into(),
+                format!(
+                    "needs a non-zero coefficient on omega or {} (SI: per rad/s, {unit})",
+                    kind.key()
+                ),
             ));
         }
         linear.push(LinearConstraint {
             omega: l.omega,
-            v0: l.v0,
+            set_point: a_s,
             upper: l.upper,
             label: "linear",
         });
@@ -599,7 +687,8 @@ fn constraints(c: &Checker, k: &ConstraintsSection) -> Result<Constraints, Probl
     }
     Ok(Constraints {
         omega,
-        v0,
+        kind,
+        set_point,
         linear,
         chance,
     })
@@ -654,6 +743,7 @@ fn optimizer(
     c: &Checker,
     o: Option<&OptimizerSection>,
     constraints: Option<&Constraints>,
+    kind: SetPoint,
 ) -> Result<OptimizerSettings, ProblemError> {
     use super::Dimension::*;
     let Some(o) = o else {
@@ -695,7 +785,10 @@ fn optimizer(
         Some(g) => {
             return Err(c.fail(
                 "optimizer.grid",
-                format!("must be [n_omega, n_v0] with each in [2, 200], got {g:?}"),
+                format!(
+                    "must be [n_omega, n_{}] with each in [2, 200], got {g:?}",
+                    kind.key()
+                ),
             ));
         }
     };
@@ -708,26 +801,33 @@ fn optimizer(
                 &s[0],
                 AngularVelocity,
             );
-            let v = c.value_as("optimizer.start[1]", "operating_point.v0", &s[1], Velocity);
+            let v = c.value_as(
+                "optimizer.start[1]",
+                &format!("operating_point.{}", kind.key()),
+                &s[1],
+                kind.dimension(),
+            );
             let known = |x: &[f64]| x.iter().all(|x| !x.is_nan());
             if !known(&[w, v]) {
                 // Refused where read; the builders need not see it again.
                 None
             } else if let Some(k) = constraints
-                && known(&[k.omega[0], k.omega[1], k.v0[0], k.v0[1]])
-                && (!(k.omega[0]..=k.omega[1]).contains(&w) || !(k.v0[0]..=k.v0[1]).contains(&v))
+                && known(&[k.omega[0], k.omega[1], k.set_point[0], k.set_point[1]])
+                && (!(k.omega[0]..=k.omega[1]).contains(&w)
+                    || !(k.set_point[0]..=k.set_point[1]).contains(&v))
             {
-                use crate::units::{short, to_m_per_h, to_rpm};
+                use crate::units::{short, to_rpm};
+                let (key, unit) = (kind.key(), kind.unit());
                 return Err(c.fail(
                     "optimizer.start",
                     format!(
-                        "must lie inside the bounds constraints.omega = [{}, {}] rpm and constraints.v0 = [{}, {}] m/h, got ({} rpm, {} m/h)",
+                        "must lie inside the bounds constraints.omega = [{}, {}] rpm and constraints.{key} = [{}, {}] {unit}, got ({} rpm, {} {unit})",
                         short(to_rpm(k.omega[0])),
                         short(to_rpm(k.omega[1])),
-                        short(to_m_per_h(k.v0[0])),
-                        short(to_m_per_h(k.v0[1])),
+                        short(kind.to_unit(k.set_point[0])),
+                        short(kind.to_unit(k.set_point[1])),
                         short(to_rpm(w)),
-                        short(to_m_per_h(v))
+                        short(kind.to_unit(v))
                     ),
                 ));
             } else {
@@ -737,7 +837,11 @@ fn optimizer(
         Some(s) => {
             return Err(c.fail(
                 "optimizer.start",
-                format!("must be a pair [omega, v0], got {} values", s.len()),
+                format!(
+                    "must be a pair [omega, {}], got {} values",
+                    kind.key(),
+                    s.len()
+                ),
             ));
         }
     };

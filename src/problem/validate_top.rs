@@ -9,8 +9,8 @@ use crate::model::{
 };
 use crate::units::{Dimension, Range};
 
-/// The tops a problem file can choose (`"hook_load"` is built in the simulator only).
-const FILE_TOPS: [&str; 2] = ["feed", "autodriller"];
+/// The tops a problem file can choose.
+const FILE_TOPS: [&str; 3] = crate::model::TOP_DRIVES;
 
 fn spec(key: &'static str, dimension: Dimension, range: Range, doc: &'static str) -> ParameterSpec {
     ParameterSpec {
@@ -42,17 +42,6 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
             return Ok(TopDrive::Feed);
         }
     };
-    if name == "hook_load" {
-        c.record(
-            key,
-            "\"hook_load\" (a constant top force, design variables Ω and WOB) is built in the \
-             simulator but not yet in problem files and the study commands; use \"autodriller\" \
-             with wob_limit, which holds the surface WOB at its limit whenever the rock cannot \
-             take the feed"
-                .into(),
-        );
-        return Ok(TopDrive::Feed);
-    }
     if !FILE_TOPS.contains(&name.as_str()) {
         c.record(
             key,
@@ -60,12 +49,13 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
         );
         return Ok(TopDrive::Feed);
     }
-    if o.wob.is_some() {
+    if o.wob.is_some() && name != "hook_load" {
         c.record(
             "operating_point.wob",
-            "is the WOB set-point of top = \"hook_load\", which problem files cannot choose yet: \
-             remove it (the autodriller's limit is wob_limit)"
-                .into(),
+            format!(
+                "is the WOB set-point of top = \"hook_load\", not of top = \"{name}\": remove it \
+                 (the autodriller's limit is wob_limit)"
+            ),
         );
     }
     let keys: [(&str, &Option<RawQuantity>, &[&str]); 4] = [
@@ -94,6 +84,8 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
     };
     match name.as_str() {
         "feed" => Ok(TopDrive::Feed),
+        // The set-point `wob` is the operating point's (read with it).
+        "hook_load" => Ok(TopDrive::HookLoad),
         "autodriller" => {
             let wob_limit = match &o.wob_limit {
                 Some(raw) => value(

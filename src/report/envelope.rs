@@ -129,6 +129,7 @@ mod tests {
         let op = OperatingPoint {
             omega: 6.0,
             v0: 1e-3,
+            wob: 0.0,
         };
         plot_stress_envelope(&e, &op, &dir.path().join("e.svg")).unwrap();
         let svg = std::fs::read_to_string(dir.path().join("e.svg")).unwrap();

@@ -81,7 +81,9 @@ pub fn evaluations_csv<'a>(
         .collect();
     let metrics: Vec<(String, f64)> = METRICS.iter().map(|s| metric_column(s.key)).collect();
 
-    let mut out = String::from("omega [rpm],v0 [m/h],sample");
+    // The second column is the problem's set-point: V0, or a hook load's WOB.
+    let kind = problem.model.top.set_point();
+    let mut out = format!("omega [rpm],{} [{}],sample", kind.key(), kind.unit());
     for (header, _) in params.iter().chain(&metrics) {
         out.push(',');
         out.push_str(header);
@@ -98,7 +100,10 @@ pub fn evaluations_csv<'a>(
                 out,
                 "{},{},{}",
                 number(p.omega_rpm),
-                number(p.v0_m_per_h),
+                number(match kind {
+                    crate::model::SetPoint::Feed => p.v0_m_per_h,
+                    crate::model::SetPoint::Wob => p.wob_kn,
+                }),
                 s.sample
             );
             // The values this sample was evaluated with (its seed says it is the same draw).
@@ -224,6 +229,8 @@ cov = 0.1
             v0_m_s: crate::units::from_m_per_h(12.0),
             omega_rpm: 89.99999999999999,
             v0_m_per_h: 12.000000000000002,
+            wob_n: 0.0,
+            wob_kn: 0.0,
             objective: None,
             quantity: None,
             risk: Vec::new(),

@@ -48,11 +48,18 @@ impl ExploreJson {
     }
 }
 
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 /// One confirmed candidate: its point, explore score and full-fidelity score.
 #[derive(Debug, Clone, Serialize)]
 pub struct CandidateJson {
     pub omega_rpm: f64,
+    /// The feed set-point (0 under a hook load, whose set-point is `wob_kn`).
     pub v0_m_per_h: f64,
+    #[serde(skip_serializing_if = "is_zero")]
+    pub wob_kn: f64,
     /// Score at the explore fidelity (the rank it was chosen by).
     pub explore_score: Option<f64>,
     pub explore_feasible: bool,
@@ -71,6 +78,9 @@ pub struct ConfirmationJson {
     /// The explore's best point and score (null: none feasible at the explore fidelity).
     pub explore_best_omega_rpm: Option<f64>,
     pub explore_best_v0_m_per_h: Option<f64>,
+    /// A hook load's WOB set-point of the explore's best point, kN.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub explore_best_wob_kn: Option<f64>,
     pub explore_best_score: Option<f64>,
     pub candidates: Vec<CandidateJson>,
     /// Rounds of confirmation (more than one: the earlier rounds had no feasible candidate).
@@ -95,6 +105,7 @@ impl ConfirmationJson {
             explore_status: c.explore_status,
             explore_best_omega_rpm: best.map(|b| b.omega_rpm),
             explore_best_v0_m_per_h: best.map(|b| b.v0_m_per_h),
+            explore_best_wob_kn: best.filter(|b| b.wob_n != 0.0).map(|b| b.wob_kn),
             explore_best_score: best.and_then(|b| b.objective),
             candidates: c
                 .candidates
@@ -102,6 +113,7 @@ impl ConfirmationJson {
                 .map(|k| CandidateJson {
                     omega_rpm: k.full.omega_rpm,
                     v0_m_per_h: k.full.v0_m_per_h,
+                    wob_kn: k.full.wob_kn,
                     explore_score: k.explore.objective,
                     explore_feasible: k.explore.feasible,
                     full_score: k.full.objective,

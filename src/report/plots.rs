@@ -172,6 +172,9 @@ fn plot_bit_figure(
     let (symbol, imposed, unit) = figure.imposed;
     let value = imposed(op) * figure.rate.3;
     let label = format!("{symbol} = {} {unit} (imposed at the top)", short(value));
+    // A hook load imposes no feed: its bit-velocity panel has no V0 line.
+    let reference = (symbol != "V0" || op.kind() == crate::model::SetPoint::Feed)
+        .then_some((value, label.as_str()));
     let panel = |(caption, y_label, y, scale): Channel, reference| Panel {
         caption,
         y_label,
@@ -185,7 +188,7 @@ fn plot_bit_figure(
         &series.t,
         &[
             panel(figure.coordinate, None),
-            panel(figure.rate, Some((value, label.as_str()))),
+            panel(figure.rate, reference),
         ],
     )
 }

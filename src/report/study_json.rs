@@ -69,8 +69,18 @@ impl<'a> StudyHeader<'a> {
 pub struct PointJson {
     pub omega_rad_s: f64,
     pub omega_rpm: f64,
+    /// The feed set-point (0 under a hook load).
     pub v0_m_s: f64,
     pub v0_m_per_h: f64,
+    /// The hook load's WOB set-point (written only under a hook load).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub wob_n: f64,
+    #[serde(skip_serializing_if = "is_zero")]
+    pub wob_kn: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl PointJson {
@@ -81,6 +91,8 @@ impl PointJson {
             omega_rpm: crate::units::to_rpm(op.omega),
             v0_m_s: op.v0,
             v0_m_per_h: crate::units::to_m_per_h(op.v0),
+            wob_n: op.wob,
+            wob_kn: op.wob / 1e3,
         }
     }
 
@@ -91,6 +103,8 @@ impl PointJson {
             omega_rpm: p.omega_rpm,
             v0_m_s: p.v0_m_s,
             v0_m_per_h: p.v0_m_per_h,
+            wob_n: p.wob_n,
+            wob_kn: p.wob_kn,
         }
     }
 }
@@ -214,7 +228,11 @@ pub struct ObjectiveJson {
 pub struct LinearJson {
     pub label: &'static str,
     pub omega_coefficient: f64,
-    pub v0_coefficient: f64,
+    /// Per m/s (feed tops), or `wob_coefficient` per N under a hook load.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub v0_coefficient: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wob_coefficient: Option<f64>,
     pub upper: f64,
     pub value_at_optimum: f64,
     pub active: bool,
@@ -223,7 +241,11 @@ pub struct LinearJson {
 #[derive(Debug, Clone, Serialize)]
 pub struct ConstraintsJson {
     pub omega_rad_s: [f64; 2],
-    pub v0_m_s: [f64; 2],
+    /// The bounds of V0 (feed tops) or, under a hook load, `wob_n` of the WOB.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub v0_m_s: Option<[f64; 2]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wob_n: Option<[f64; 2]>,
     pub linear: Vec<LinearJson>,
     pub chance: Vec<ChanceValue>,
 }
@@ -233,20 +255,24 @@ impl ConstraintsJson {
     /// of its scale.
     pub fn at(c: &Constraints, best: &PointEvaluation) -> Self {
         let scale = |l: &LinearConstraint| {
-            (l.omega * c.omega[1]).abs() + (l.v0 * c.v0[1]).abs() + l.upper.abs()
+            (l.omega * c.omega[1]).abs() + (l.set_point * c.set_point[1]).abs() + l.upper.abs()
         };
+        let feed = c.kind == crate::model::SetPoint::Feed;
+        let s = best.op().set_point(c.kind);
         ConstraintsJson {
             omega_rad_s: c.omega,
-            v0_m_s: c.v0,
+            v0_m_s: feed.then_some(c.set_point),
+            wob_n: (!feed).then_some(c.set_point),
             linear: c
                 .linear
                 .iter()
                 .map(|l| {
-                    let value = l.omega * best.omega_rad_s + l.v0 * best.v0_m_s;
+                    let value = l.omega * best.omega_rad_s + l.set_point * s;
                     LinearJson {
                         label: l.label,
                         omega_coefficient: l.omega,
-                        v0_coefficient: l.v0,
+                        v0_coefficient: feed.then_some(l.set_point),
+                        wob_coefficient: (!feed).then_some(l.set_point),
                         upper: l.upper,
                         value_at_optimum: value,
                         active: (l.upper - value).abs() <= 1e-3 * scale(l),
@@ -343,8 +369,12 @@ pub struct MapJson<'a> {
     pub header: StudyHeader<'a>,
     pub grid: [usize; 2],
     pub omega_rad_s: &'a [f64],
-    pub v0_m_s: &'a [f64],
-    /// Row-major (V0 rows, Ω columns); null outside the linear constraints.
+    /// The grid's set-points: V0 (feed tops) or, under a hook load, the WOB (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub v0_m_s: Option<&'a [f64]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wob_n: Option<&'a [f64]>,
+    /// Row-major (set-point rows, Ω columns); null outside the linear constraints.
     pub points: Vec<Option<EvaluationJson>>,
     pub optimum: Option<PointJson>,
     pub optimum_objective: Option<f64>,

@@ -16,6 +16,7 @@ pub const PROBE_X: f64 = 20.0;
 pub const OP: OperatingPoint = OperatingPoint {
     omega: 10.0,
     v0: 0.01,
+    wob: 0.0,
 };
 
 /// `n` samples over about `n` × 10⁻⁴ s.

@@ -55,13 +55,16 @@ impl<'a> MetricDisplay<'a> {
     }
 }
 
-/// "Ω = 60 rpm, V0 = 5 m/h" for an operating point given in SI (rad/s, m/s), with at most two
-/// decimals and no trailing zeros.
+/// "Ω = 60 rpm, V0 = 5 m/h" (a hook load's "Ω = 60 rpm, WOB = 50 kN") for an operating point
+/// given in SI (rad/s, m/s, N), with at most two decimals and no trailing zeros.
 pub fn operating_point_text(op: &OperatingPoint) -> String {
+    let kind = op.kind();
     format!(
-        "\u{3a9} = {} rpm, V0 = {} m/h",
+        "\u{3a9} = {} rpm, {} = {} {}",
         short(op.omega * RPM_PER_RAD_S),
-        short(op.v0 * M_PER_H_PER_M_PER_S)
+        kind.symbol(),
+        short(op.shown_set_point()),
+        kind.unit()
     )
 }
 
@@ -167,8 +170,14 @@ mod tests {
         let op = OperatingPoint {
             omega: TAU,
             v0: 5.0 / 3600.0,
+            wob: 0.0,
         };
         assert_eq!(operating_point_text(&op), "\u{3a9} = 60 rpm, V0 = 5 m/h");
+        let hook = OperatingPoint::hook_load(op.omega, 47_500.0);
+        assert_eq!(
+            operating_point_text(&hook),
+            "\u{3a9} = 60 rpm, WOB = 47.5 kN"
+        );
         assert_eq!(short(111.111), "111.11");
         assert_eq!(short(2.5), "2.5");
         assert_eq!(short(-0.001), "0");

@@ -30,6 +30,8 @@ pub struct FreeTop<'m> {
     law: TopDrive,
     /// The feed set-point V0, m/s (the autodriller's).
     v0: f64,
+    /// The hook load's WOB set-point W, N.
+    wob: f64,
     /// (q, q̇, q̈) of the string: the first n unknowns.
     part: [DVector<f64>; 3],
     residual: DVector<f64>,
@@ -46,16 +48,19 @@ pub struct FreeTop<'m> {
 }
 
 impl<'m> FreeTop<'m> {
-    /// The string of `dynamics` under `law` (not [`TopDrive::Feed`]) with feed set-point `v0`.
-    pub fn new(dynamics: Dynamics<'m>, law: TopDrive, v0: f64) -> Self {
+    /// The string of `dynamics` under `law` (not [`TopDrive::Feed`]) with the set-points of
+    /// `dynamics`' operating point (the autodriller's V0, the hook load's W).
+    pub fn new(dynamics: Dynamics<'m>, law: TopDrive) -> Self {
         debug_assert!(law.is_free());
         // A power limit is the torque limit it sets at the run's Ω.
-        let law = law.at_speed(dynamics.op().omega);
+        let op = dynamics.op();
+        let law = law.at_speed(op.omega);
         let n = dynamics.model.size();
         FreeTop {
             dynamics,
             law,
-            v0,
+            v0: op.v0,
+            wob: op.wob,
             part: std::array::from_fn(|_| DVector::zeros(n)),
             residual: DVector::zeros(n),
             jacobian: DMatrix::zeros(n, n),
@@ -86,7 +91,7 @@ impl<'m> FreeTop<'m> {
     fn top_residual(&mut self, speed: f64, accel: f64, loads: [f64; 2]) -> f64 {
         match self.law {
             TopDrive::Feed => unreachable!("FreeTop is built for the other tops"),
-            TopDrive::HookLoad { wob } => loads[0] - wob,
+            TopDrive::HookLoad => loads[0] - self.wob,
             TopDrive::Autodriller(ad) => {
                 let (command, slope) = self.command(&ad, speed, loads);
                 self.command_slope = slope;
@@ -270,7 +275,7 @@ impl ImplicitSystem for FreeTop<'_> {
         }
         match self.law {
             TopDrive::Feed => unreachable!("FreeTop is built for the other tops"),
-            TopDrive::HookLoad { .. } => {
+            TopDrive::HookLoad => {
                 for j in 0..n {
                     out[(n, j)] = self.force_row[j];
                 }
@@ -297,7 +302,8 @@ impl ImplicitSystem for FreeTop<'_> {
 /// the soft-string estimate ([`crate::model::SoftString`]). Returns the string's q, V (m/s) and the
 /// Newton iterations spent in all.
 ///
-/// Errors: those of [`super::preloaded_equilibrium`], and [`SimulationError::NoSteadyDrilling`]
+/// Errors: those of [`super::preloaded_equilibrium`], [`SimulationError::NoHookLoad`] for a hook
+/// load without a positive set-point, and [`SimulationError::NoSteadyDrilling`]
 /// when no feed between 0 and the admissible 1000 m/h satisfies the law (a hook load above what the
 /// bit law can take, a torque limit below the off-bottom torque).
 pub fn free_top_start(
@@ -307,10 +313,13 @@ pub fn free_top_start(
 ) -> Result<(DVector<f64>, f64, usize), SimulationError> {
     let string = &model.string;
     let top = string.top.at_speed(op.omega);
+    if matches!(top, TopDrive::HookLoad) && !(op.wob > 0.0 && op.wob.is_finite()) {
+        return Err(SimulationError::NoHookLoad { wob: op.wob });
+    }
     // h(F, T) − 1: negative below the law's load, zero on it.
     let excess = |loads: [f64; 2]| -> f64 {
         match top {
-            TopDrive::HookLoad { wob } => loads[0] / wob - 1.0,
+            TopDrive::HookLoad => loads[0] / op.wob - 1.0,
             TopDrive::Autodriller(ad) => {
                 let torque = ad.torque_limit.map_or(f64::NEG_INFINITY, |l| loads[1] / l);
                 (loads[0] / ad.wob_limit).max(torque) - 1.0

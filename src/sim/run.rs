@@ -147,6 +147,10 @@ pub enum SimulationError {
         at: &'static str,
         load_ratio: f64,
     },
+    #[error(
+        "top = \"hook_load\" needs a positive, finite WOB set-point (the operating point's wob), got {wob} N"
+    )]
+    NoHookLoad { wob: f64 },
     #[error("at t = {time:.6} s the time step fell below {min_step:e} s ({reason})")]
     StepTooSmall {
         time: f64,
@@ -244,6 +248,7 @@ pub fn static_equilibrium(model: &ReducedModel) -> Result<(DVector<f64>, usize),
     let rest = OperatingPoint {
         omega: 0.0,
         v0: 0.0,
+        wob: 0.0,
     };
     equilibrium(model, rest, effects)
 }
@@ -765,7 +770,7 @@ impl<'m> Driven<'m> {
         let dynamics = Dynamics::new(model, op, effects);
         match model.string.top {
             crate::model::TopDrive::Feed => Driven::Feed(dynamics),
-            top => Driven::Free(FreeTop::new(dynamics, top, op.v0)),
+            top => Driven::Free(FreeTop::new(dynamics, top)),
         }
     }
 

@@ -64,10 +64,7 @@ pub fn numerical_check(
 ) -> Result<NumericalCheck, crate::verify::VerifyError> {
     use crate::verify::{Refinement, VerifySettings, verify_with};
     let settings = VerifySettings {
-        op: crate::model::OperatingPoint {
-            omega: best.omega_rad_s,
-            v0: best.v0_m_s,
-        },
+        op: best.op(),
         duration: problem.simulation.duration,
         settling: problem.simulation.settling_time,
     };

@@ -28,7 +28,7 @@ use std::sync::Mutex;
 #[derive(Debug, thiserror::Error)]
 pub enum SolveError {
     #[error(
-        "{file}: the problem has no [constraints] section; solve and map need the bounds constraints.omega and constraints.v0 (e.g. omega = [\"30 rpm\", \"150 rpm\"], v0 = [\"2 m/h\", \"20 m/h\"]; problems/seed_robust.toml is the seed with a whole study section)"
+        "{file}: the problem has no [constraints] section; solve and map need the bounds constraints.omega and constraints.v0 (e.g. omega = [\"30 rpm\", \"150 rpm\"], v0 = [\"2 m/h\", \"20 m/h\"]; under top = \"hook_load\" constraints.wob, e.g. wob = [\"20 kN\", \"120 kN\"]; problems/seed_robust.toml is the seed with a whole study section)"
     )]
     NoConstraints { file: String },
     #[error("{file}: [constraints]: {message}")]
@@ -105,12 +105,31 @@ impl BlackBox for StudyBlackBox<'_, '_> {
 pub struct PathPoint {
     pub iteration: usize,
     pub omega_rad_s: f64,
+    /// The feed set-point (0 under a hook load).
     pub v0_m_s: f64,
+    /// The hook load's WOB set-point, N (written only under a hook load).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub wob_n: f64,
     /// −merit: the score, less any chance-constraint penalty.
     pub score: f64,
     /// Trust-region radius as a fraction of the bounds box (trust region only).
     pub radius: Option<f64>,
     pub evaluations: usize,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+impl PathPoint {
+    /// The operating point of the step.
+    pub fn op(&self) -> OperatingPoint {
+        OperatingPoint {
+            omega: self.omega_rad_s,
+            v0: self.v0_m_s,
+            wob: self.wob_n,
+        }
+    }
 }
 
 /// How a solve ended (`solution.json` → `status`).
@@ -196,24 +215,28 @@ fn feasible_set(problem: &Problem) -> Result<crate::optimize::FeasibleSet, Solve
     Ok(set)
 }
 
-/// Why the bounds and linear constraints leave no (Ω, V0), in words and the user's units: the
-/// constraint the optimizer could not meet, by its key, and the bounds.
+/// Why the bounds and linear constraints leave no (Ω, set-point), in words and the user's units:
+/// the constraint the optimizer could not meet, by its key, and the bounds.
 fn infeasible_message(c: &Constraints, e: &OptimizeError) -> String {
-    use crate::units::{short, to_m_per_h, to_rpm};
+    use crate::units::{short, to_rpm};
+    let (symbol, key, unit) = (c.kind.symbol(), c.kind.key(), c.kind.unit());
     let bounds = format!(
-        "within the bounds Ω ∈ [{}, {}] rpm (constraints.omega), V0 ∈ [{}, {}] m/h (constraints.v0)",
+        "within the bounds Ω ∈ [{}, {}] rpm (constraints.omega), {symbol} ∈ [{}, {}] {unit} (constraints.{key})",
         short(to_rpm(c.omega[0])),
         short(to_rpm(c.omega[1])),
-        short(to_m_per_h(c.v0[0])),
-        short(to_m_per_h(c.v0[1]))
+        short(c.kind.to_unit(c.set_point[0])),
+        short(c.kind.to_unit(c.set_point[1]))
     );
     let OptimizeError::Infeasible { row, .. } = e else {
-        return format!("the bounds and linear constraints leave no feasible (Ω, V0): {e}");
+        return format!("the bounds and linear constraints leave no feasible (Ω, {symbol}): {e}");
     };
     let which = row.and_then(|i| c.linear.get(i).map(|l| (i, l)));
     let detail = match which {
         Some((_, l)) if l.label == "max_depth_of_cut" => {
-            let (limit, least) = (-l.omega, 2.0 * std::f64::consts::PI * c.v0[0] / c.omega[1]);
+            let (limit, least) = (
+                -l.omega,
+                2.0 * std::f64::consts::PI * c.set_point[0] / c.omega[1],
+            );
             let why = if least > limit {
                 format!(
                     ": even the lowest V0 at the highest Ω cuts {} mm per revolution",
@@ -231,15 +254,15 @@ fn infeasible_message(c: &Constraints, e: &OptimizeError) -> String {
             // The i-th row counts the depth-of-cut row first; the file's index does not.
             let file_index = c.linear[..i].iter().filter(|r| r.label == l.label).count();
             format!(
-                "constraints.linear[{file_index}] ({} Ω + {} V0 ≤ {}, SI) cannot hold {bounds}",
-                l.omega, l.v0, l.upper
+                "constraints.linear[{file_index}] ({} Ω + {} {symbol} ≤ {}, SI) cannot hold {bounds}",
+                l.omega, l.set_point, l.upper
             )
         }
         None => format!(
             "the constraints of [[constraints.linear]] and max_depth_of_cut cannot hold together {bounds}"
         ),
     };
-    format!("the bounds and linear constraints leave no feasible (Ω, V0): {detail}")
+    format!("the bounds and linear constraints leave no feasible (Ω, {symbol}): {detail}")
 }
 
 /// The best of a list of evaluations: feasible first, then by score.
@@ -267,12 +290,9 @@ pub fn solve(
     let set = feasible_set(problem)?;
     let settings = &problem.study.optimizer;
     let bb = StudyBlackBox::new(evaluator, constraints);
-    let start = settings
-        .start()
-        .map_or(problem.operating_point, |s| OperatingPoint {
-            omega: s[0],
-            v0: s[1],
-        });
+    let start = settings.start().map_or(problem.operating_point, |s| {
+        OperatingPoint::of(constraints.kind, s[0], s[1])
+    });
     let x0 = set.project(&bb.scaling.to_unit(start))?;
     let result = match settings {
         OptimizerSettings::TrustRegion(s) => {
@@ -349,6 +369,7 @@ pub fn solve(
                         iteration: it.iteration,
                         omega_rad_s: op.omega,
                         v0_m_s: op.v0,
+                        wob_n: op.wob,
                         score: -it.merit,
                         radius: it.radius,
                         evaluations: it.evaluations,
@@ -375,10 +396,13 @@ pub fn solve(
 #[derive(Debug, Clone)]
 pub struct MapOutcome {
     pub grid: [usize; 2],
-    /// Grid values of Ω (rad/s) and V0 (m/s).
+    /// What the second axis is.
+    pub kind: crate::model::SetPoint,
+    /// Grid values of Ω (rad/s) and of the set-point (SI: V0 in m/s, or the WOB in N).
     pub omega: Vec<f64>,
-    pub v0: Vec<f64>,
-    /// Per grid node (row-major in V0, then Ω): the evaluation, None outside the linear constraints.
+    pub set_point: Vec<f64>,
+    /// Per grid node (row-major in the set-point, then Ω): the evaluation, None outside the
+    /// linear constraints.
     pub points: Vec<Option<PointEvaluation>>,
     pub best: Option<PointEvaluation>,
 }
@@ -416,6 +440,7 @@ pub fn map(
     let flat: Vec<PointEvaluation> = points.iter().flatten().cloned().collect();
     Ok(MapOutcome {
         grid,
+        kind: constraints.kind,
         omega: (0..grid[0])
             .map(|i| {
                 scaling
@@ -423,11 +448,11 @@ pub fn map(
                     .omega
             })
             .collect(),
-        v0: (0..grid[1])
+        set_point: (0..grid[1])
             .map(|j| {
                 scaling
                     .from_unit(&[0.0, j as f64 / (grid[1] - 1) as f64])
-                    .v0
+                    .set_point(constraints.kind)
             })
             .collect(),
         best: best_point(&flat),

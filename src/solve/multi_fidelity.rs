@@ -66,7 +66,9 @@ impl Confirmation {
 }
 
 fn same_point(a: &PointEvaluation, b: &PointEvaluation) -> bool {
-    a.omega_rad_s.to_bits() == b.omega_rad_s.to_bits() && a.v0_m_s.to_bits() == b.v0_m_s.to_bits()
+    a.omega_rad_s.to_bits() == b.omega_rad_s.to_bits()
+        && a.v0_m_s.to_bits() == b.v0_m_s.to_bits()
+        && a.wob_n.to_bits() == b.wob_n.to_bits()
 }
 
 /// The `n` best candidates of `points` in explore rank: feasible before infeasible, then by
@@ -298,6 +300,8 @@ mod tests {
             v0_m_s: 0.005,
             omega_rpm: crate::units::to_rpm(omega),
             v0_m_per_h: 18.0,
+            wob_n: 0.0,
+            wob_kn: 0.0,
             objective: score,
             quantity: score,
             risk: Vec::new(),
@@ -317,7 +321,8 @@ mod tests {
     fn box10() -> Scaling {
         Scaling {
             omega: [10.0, 20.0],
-            v0: [0.0, 0.01],
+            kind: crate::model::SetPoint::Feed,
+            set_point: [0.0, 0.01],
         }
     }
 

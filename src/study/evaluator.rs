@@ -267,13 +267,7 @@ impl<'a> RobustEvaluator<'a> {
     /// and the returned evaluations are at the canonical points. With `[uncertain.sequential]`
     /// the points are evaluated in rounds, one batch per round ([`super::sequential`]).
     pub fn evaluate(&self, points: &[OperatingPoint]) -> Vec<PointEvaluation> {
-        let points: Vec<OperatingPoint> = points
-            .iter()
-            .map(|op| {
-                let (omega, v0) = crate::units::canonical_point(op.omega, op.v0);
-                OperatingPoint { omega, v0 }
-            })
-            .collect();
+        let points: Vec<OperatingPoint> = points.iter().map(OperatingPoint::canonical).collect();
         let n = self.samples.len();
         if let Some(rule) = &self.problem.study.sequential {
             return evaluate_in_rounds(
@@ -330,7 +324,11 @@ impl<'a> RobustEvaluator<'a> {
 
     fn key(&self, job: SampleJob) -> CacheKey {
         let seed = self.samples.samples[job.sample].seed;
-        CacheKey::new(job.op.omega, job.op.v0, job.sample, seed, self.model_hash)
+        // The second coordinate is the point's set-point (V0, or a hook load's WOB): the model
+        // hash holds the top, so the two never share a key.
+        let op = job.op;
+        let set_point = op.set_point(op.kind());
+        CacheKey::new(op.omega, set_point, job.sample, seed, self.model_hash)
     }
 
     fn result(&self, job: SampleJob, outcome: SampleOutcome, cached: bool) -> SampleResult {

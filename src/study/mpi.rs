@@ -236,10 +236,11 @@ fn put_text(out: &mut Vec<u8>, s: &str) {
 }
 
 fn encode_job(id: usize, job: SampleJob) -> Vec<u8> {
-    let mut out = Vec::with_capacity(32);
+    let mut out = Vec::with_capacity(40);
     put_u64(&mut out, id as u64);
     put_u64(&mut out, job.op.omega.to_bits());
     put_u64(&mut out, job.op.v0.to_bits());
+    put_u64(&mut out, job.op.wob.to_bits());
     put_u64(&mut out, job.sample as u64);
     out
 }
@@ -250,6 +251,7 @@ fn decode_job(msg: &[u8]) -> (usize, SampleJob) {
     let op = OperatingPoint {
         omega: r.f64(),
         v0: r.f64(),
+        wob: r.f64(),
     };
     let sample = r.u64() as usize;
     (id, SampleJob { op, sample })
@@ -310,10 +312,17 @@ mod tests {
             op: OperatingPoint {
                 omega: 1.0 / 3.0,
                 v0: 5.0 / 3600.0,
+                wob: 0.0,
             },
             sample: 7,
         };
         assert_eq!(decode_job(&encode_job(42, job)), (42, job));
+        // A hook load's point carries its WOB.
+        let hook = SampleJob {
+            op: OperatingPoint::hook_load(1.0 / 3.0, 47_123.5),
+            sample: 2,
+        };
+        assert_eq!(decode_job(&encode_job(9, hook)), (9, hook));
         let mut m = BTreeMap::new();
         m.insert("mse_pa".to_string(), f64::INFINITY);
         m.insert("efficiency".to_string(), f64::NAN);

@@ -52,9 +52,16 @@ pub struct ChanceValue {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PointEvaluation {
     pub omega_rad_s: f64,
+    /// The feed set-point V0 (0 under a hook load).
     pub v0_m_s: f64,
     pub omega_rpm: f64,
     pub v0_m_per_h: f64,
+    /// The hook load's WOB set-point, N (written only under a hook load).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub wob_n: f64,
+    /// The same in kN.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub wob_kn: f64,
     /// The score (maximised); None when a sample failed.
     pub objective: Option<f64>,
     /// Statistic of the quantity (ROP in m/h or efficiency) before the risk penalties.
@@ -80,11 +87,16 @@ pub struct PointEvaluation {
     pub fidelity: super::Fidelity,
 }
 
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 impl PointEvaluation {
     pub fn op(&self) -> OperatingPoint {
         OperatingPoint {
             omega: self.omega_rad_s,
             v0: self.v0_m_s,
+            wob: self.wob_n,
         }
     }
 }
@@ -122,17 +134,20 @@ pub fn deterministic_violations(
             to_rpm(k.omega[1])
         ));
     }
-    if outside(op.v0, k.v0) {
+    let s = op.set_point(k.kind);
+    if outside(s, k.set_point) {
+        let unit = k.kind.unit();
         out.push(format!(
-            "V0 = {:.2} m/h is outside the bounds [{:.2}, {:.2}] m/h",
-            to_m_per_h(op.v0),
-            to_m_per_h(k.v0[0]),
-            to_m_per_h(k.v0[1])
+            "{} = {:.2} {unit} is outside the bounds [{:.2}, {:.2}] {unit}",
+            k.kind.symbol(),
+            k.kind.to_unit(s),
+            k.kind.to_unit(k.set_point[0]),
+            k.kind.to_unit(k.set_point[1])
         ));
     }
     for l in &k.linear {
-        let value = l.omega * op.omega + l.v0 * op.v0;
-        let scale = (l.omega * op.omega).abs() + (l.v0 * op.v0).abs() + l.upper.abs();
+        let value = l.omega * op.omega + l.set_point * s;
+        let scale = (l.omega * op.omega).abs() + (l.set_point * s).abs() + l.upper.abs();
         if value > l.upper + CONSTRAINT_SLACK * scale {
             out.push(if l.label == "max_depth_of_cut" {
                 // 2π V0 − d Ω ≤ 0: say it as the depth of cut per revolution.
@@ -143,8 +158,11 @@ pub fn deterministic_violations(
                 )
             } else {
                 format!(
-                    "the linear constraint {:.6e} Ω + {:.6e} V0 ≤ {:.6e} (SI) is violated: {value:.6e}",
-                    l.omega, l.v0, l.upper
+                    "the linear constraint {:.6e} Ω + {:.6e} {} ≤ {:.6e} (SI) is violated: {value:.6e}",
+                    l.omega,
+                    l.set_point,
+                    k.kind.symbol(),
+                    l.upper
                 )
             });
         }
@@ -203,6 +221,8 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
         v0_m_s: op.v0,
         omega_rpm: to_rpm(op.omega),
         v0_m_per_h: to_m_per_h(op.v0),
+        wob_n: op.wob,
+        wob_kn: op.wob / 1e3,
         objective: None,
         quantity: None,
         risk: Vec::new(),
@@ -329,10 +349,11 @@ mod constraint_tests {
         let rpm = PI / 30.0;
         Constraints {
             omega: [30.0 * rpm, 150.0 * rpm],
-            v0: [2.0 / 3600.0, 20.0 / 3600.0],
+            kind: crate::model::SetPoint::Feed,
+            set_point: [2.0 / 3600.0, 20.0 / 3600.0],
             linear: vec![LinearConstraint {
                 omega: -3e-3,
-                v0: 2.0 * PI,
+                set_point: 2.0 * PI,
                 upper: 0.0,
                 label: "max_depth_of_cut",
             }],
@@ -344,6 +365,7 @@ mod constraint_tests {
         OperatingPoint {
             omega: rpm * PI / 30.0,
             v0: m_per_h / 3600.0,
+            wob: 0.0,
         }
     }
 

@@ -105,6 +105,7 @@ mod tests {
     const OP: OperatingPoint = OperatingPoint {
         omega: 2.0 * std::f64::consts::PI,
         v0: 5.0 / 3600.0,
+        wob: 0.0,
     };
 
     /// Synthetic stream: sample k of a point of spread `sigma` has ROP 10 + sigma·z_k (m/h),

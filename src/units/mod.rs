@@ -62,18 +62,21 @@ pub const POINT_DIGITS: usize = 12;
 /// has the same bits and the same evaluation-cache key. Idempotent; a point parsed from a
 /// decimal of at most 12 significant digits is unchanged.
 pub fn canonical_point(omega_rad_s: f64, v0_m_s: f64) -> (f64, f64) {
-    let round = |x: f64| -> f64 {
-        if x == 0.0 || !x.is_finite() {
-            return x;
-        }
-        format!("{x:.prec$e}", prec = POINT_DIGITS - 1)
-            .parse()
-            .unwrap_or(x)
-    };
     (
-        from_rpm(round(to_rpm(omega_rad_s))),
-        from_m_per_h(round(to_m_per_h(v0_m_s))),
+        from_rpm(round_point(to_rpm(omega_rad_s))),
+        from_m_per_h(round_point(to_m_per_h(v0_m_s))),
     )
+}
+
+/// `x` rounded to [`POINT_DIGITS`] significant digits (0 and non-finite values as they are): the
+/// rounding of [`canonical_point`], for a set-point in the unit it is shown in (a WOB in kN).
+pub fn round_point(x: f64) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    format!("{x:.prec$e}", prec = POINT_DIGITS - 1)
+        .parse()
+        .unwrap_or(x)
 }
 
 /// `x` with at most 4 decimals and no trailing zeros (`30`, `111.1111`, `0.25`), for messages.

@@ -178,6 +178,7 @@ fn the_delay_destabilises_steady_drilling_as_its_characteristic_equation_says() 
         let op = OperatingPoint {
             omega: rpm * PI / 30.0,
             v0: m_per_h / 3600.0,
+            wob: 0.0,
         };
         let line = Linearised {
             c: 0.03,
@@ -325,6 +326,7 @@ fn the_simulator_starts_to_grow_where_the_characteristic_equation_says() {
                 let op = OperatingPoint {
                     omega: edge * factor,
                     v0: v,
+                    wob: 0.0,
                 };
                 let s = kicked(model, op, 1e-3, 5.0);
                 let (growth, f) = growth_and_frequency(&s, v, |t, _| t >= 0.5);
@@ -400,6 +402,7 @@ fn the_bit_leaves_the_rock_where_the_delay_makes_steady_drilling_unstable() {
         let op = OperatingPoint {
             omega: rpm * PI / 30.0,
             v0: v,
+            wob: 0.0,
         };
         let s = released(model, op, 3.0, 12.0);
         let (_, first) = bounce_after(&s, v, 0.0);

@@ -80,6 +80,7 @@ fn under_the_imposed_feed_the_start_is_the_helix_of_steady_drilling() {
     let op = OperatingPoint {
         omega: 2.0 * PI,
         v0: 5.0 / 3600.0,
+        wob: 0.0,
     };
     // 0.3 s is 1.2 blade periods: the blades cut the start's helix, then their own rock.
     let s = run("rgd", TopDrive::Feed, op, 0.3);
@@ -106,6 +107,7 @@ fn under_an_autodriller_the_rock_is_fixed_while_the_block_moves() {
     let op = OperatingPoint {
         omega: 4.0 * PI,
         v0: 30.0 / 3600.0,
+        wob: 0.0,
     };
     let top = TopDrive::Autodriller(Autodriller {
         wob_limit: 60e3,

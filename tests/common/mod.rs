@@ -144,6 +144,7 @@ pub fn tiny_run_metrics(p: &drillopt::problem::Problem) -> Vec<(&'static str, f6
     let op = OperatingPoint {
         omega: 8.0,
         v0: 10.0 / 3600.0,
+        wob: 0.0,
     };
     let out = simulate(
         &model,

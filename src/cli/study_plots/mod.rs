@@ -11,9 +11,8 @@ use crate::model::OperatingPoint;
 use crate::problem::Problem;
 use crate::problem::study::{Constraints, Quantity, Study};
 use crate::report::{
-    self, ConstraintLine, EvaluatedPoint, M_PER_H_PER_M_PER_S as MPH, Mark, MarkKind,
-    MetricDisplay, MetricRow, OverlayRun, RPM_PER_RAD_S as RPM, Region, StarredPoint, fmt_sig,
-    short,
+    self, ConstraintLine, EvaluatedPoint, Mark, MarkKind, MetricDisplay, MetricRow, OverlayRun,
+    RPM_PER_RAD_S as RPM, Region, StarredPoint, fmt_sig, short,
 };
 use crate::sim::RunOutput;
 use crate::solve::{MapOutcome, SolveOutcome};
@@ -34,14 +33,16 @@ const BEST_NODE: &str = "best map node (highest score)";
 fn region(c: &Constraints) -> Region {
     Region {
         omega_rpm: [c.omega[0] * RPM, c.omega[1] * RPM],
-        v0_m_per_h: [c.v0[0] * MPH, c.v0[1] * MPH],
+        set_point: c.set_point.map(|s| c.kind.to_unit(s)),
+        kind: c.kind,
         lines: c
             .linear
             .iter()
             .map(|l| ConstraintLine {
                 label: l.label.replace('_', " "),
                 omega_coef: l.omega / RPM,
-                v0_coef: l.v0 / MPH,
+                // a_s s = (a_s / (unit/SI)) s_unit.
+                set_point_coef: l.set_point / c.kind.to_unit(1.0),
                 upper: l.upper,
             })
             .collect(),
@@ -53,7 +54,7 @@ fn evaluated(points: &[PointEvaluation]) -> Vec<EvaluatedPoint> {
         .iter()
         .map(|p| EvaluatedPoint {
             omega_rpm: p.omega_rpm,
-            v0_m_per_h: p.v0_m_per_h,
+            set_point: p.op().shown_set_point(),
             score: p.objective,
             feasible: p.feasible,
         })
@@ -184,9 +185,17 @@ pub fn solve_plots(problem: &Problem, out: &Path, o: &SolveOutcome) -> anyhow::R
     let path: Vec<(f64, f64)> = o
         .path
         .iter()
-        .map(|p| (p.omega_rad_s * RPM, p.v0_m_s * MPH))
+        .map(|p| {
+            (
+                p.omega_rad_s * RPM,
+                c.kind.to_unit(p.op().set_point(c.kind)),
+            )
+        })
         .collect();
-    let optimum = o.best.as_ref().map(|b| (b.omega_rpm, b.v0_m_per_h));
+    let optimum = o
+        .best
+        .as_ref()
+        .map(|b| (b.omega_rpm, c.kind.to_unit(b.op().set_point(c.kind))));
     report::plot_optimizer_path(
         &region(c),
         &evaluated(&o.evaluations),
@@ -232,10 +241,10 @@ fn map_metrics(study: &Study) -> Vec<String> {
 
 pub fn map_plots(problem: &Problem, out: &Path, m: &MapOutcome) -> anyhow::Result<()> {
     let omega: Vec<f64> = m.omega.iter().map(|w| w * RPM).collect();
-    let v0: Vec<f64> = m.v0.iter().map(|v| v * MPH).collect();
+    let set_point: Vec<f64> = m.set_point.iter().map(|&v| m.kind.to_unit(v)).collect();
     let best = m.best.as_ref().map(|b| StarredPoint {
         omega_rpm: b.omega_rpm,
-        v0_m_per_h: b.v0_m_per_h,
+        set_point: m.kind.to_unit(b.op().set_point(m.kind)),
         label: BEST_NODE.to_owned(),
     });
     let scores: Vec<Option<f64>> = m
@@ -247,9 +256,10 @@ pub fn map_plots(problem: &Problem, out: &Path, m: &MapOutcome) -> anyhow::Resul
         &format!("{}: robust score (higher is better)", problem.name),
         &score_label(problem.study.quantity),
         &omega,
-        &v0,
+        &set_point,
         &scores,
         best.as_ref(),
+        m.kind,
         &out.join("map_objective.svg"),
     )?;
     for name in map_metrics(&problem.study) {
@@ -267,9 +277,10 @@ pub fn map_plots(problem: &Problem, out: &Path, m: &MapOutcome) -> anyhow::Resul
             &format!("{}: {} (sample mean)", problem.name, d.name),
             &d.label(),
             &omega,
-            &v0,
+            &set_point,
             &values,
             best.as_ref(),
+            m.kind,
             &out.join(format!("map_{name}.svg")),
         )?;
     }

@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::problem::study::ChanceConstraint;
+use crate::report::M_PER_H_PER_M_PER_S as MPH;
 use crate::study::SampleResult;
 use crate::study::{ChanceValue, RiskValue};
 use std::collections::BTreeMap;
@@ -86,6 +87,8 @@ pub(in crate::cli) fn point(study: &Study, omega_rpm: f64, v0_m_per_h: f64) -> P
         v0_m_s: v0_m_per_h / MPH,
         omega_rpm,
         v0_m_per_h,
+        wob_n: 0.0,
+        wob_kn: 0.0,
         objective: Some(quantity - risk.iter().map(|r| r.penalty).sum::<f64>()),
         quantity: Some(quantity),
         risk,
@@ -126,8 +129,9 @@ pub(in crate::cli) fn map_4x4(study: &Study) -> MapOutcome {
     let best = points[4 + 1].clone();
     MapOutcome {
         grid: [4, 4],
+        kind: crate::model::SetPoint::Feed,
         omega,
-        v0,
+        set_point: v0,
         points,
         best,
     }

@@ -64,6 +64,7 @@ mod tests {
             let op = OperatingPoint {
                 omega: rpm * PI / 30.0,
                 v0: m_per_h / 3600.0,
+                wob: 0.0,
             };
             let wob = 250e3 * (1.0 - (-180.0 * op.v0).exp());
             let w = op.omega;
@@ -82,6 +83,7 @@ mod tests {
                 OperatingPoint {
                     omega: rpm * PI / 30.0,
                     v0: m_per_h / 3600.0,
+                    wob: 0.0,
                 },
             )
         };
@@ -94,6 +96,7 @@ mod tests {
         let op = OperatingPoint {
             omega: 2.0 * PI,
             v0: 0.0,
+            wob: 0.0,
         };
         assert_eq!(bit_damping_ratio(&seed(), op), 0.0);
     }

@@ -15,35 +15,40 @@ use super::style::{
     value_range,
 };
 
-/// Draws `values` over the grid of cell centres `omega_rpm` × `v0_m_per_h` as filled cells
+/// Draws `values` over the grid of cell centres `omega_rpm` × `set_point` as filled cells
 /// coloured by value, with a colour bar labelled `value_label` and its range; `None` (or
 /// non-finite) cells are grey and hatched. `values[j * omega_rpm.len() + i]` belongs to
 /// (Ω\[i\], V0\[j\]). Cell edges lie halfway between neighbouring nodes; the grid need not be
 /// uniform. A field with one value everywhere gets that value, said to be constant, instead of
 /// a colour bar. `star` is marked with a star, named in the legend and the caption by its
 /// label (e.g. "best map node": say which point it is, an optimum or a grid node).
+// The grid's two axes, its values, the star, the set-point kind and the file: one argument each
+// (a struct would only rename them at the one call site in `cli::study_plots`).
+#[allow(clippy::too_many_arguments)]
 pub fn plot_heatmap(
     title: &str,
     value_label: &str,
     omega_rpm: &[f64],
-    v0_m_per_h: &[f64],
+    set_point: &[f64],
     values: &[Option<f64>],
     star: Option<&StarredPoint>,
+    kind: crate::model::SetPoint,
     out: &Path,
 ) -> Result<(), PlotError> {
-    let expected = omega_rpm.len().checked_mul(v0_m_per_h.len());
+    let expected = omega_rpm.len().checked_mul(set_point.len());
     if expected != Some(values.len()) {
         return Err(PlotError::GridMismatch {
             path: out.to_owned(),
             len: values.len(),
             n_omega: omega_rpm.len(),
-            n_v0: v0_m_per_h.len(),
+            n_v0: set_point.len(),
         });
     }
     let grid = Grid {
         omega: omega_rpm,
-        v0: v0_m_per_h,
+        set_point,
         values,
+        kind,
     };
     render_and_write(out, (WIDTH, HEIGHT), |root| {
         draw_heatmap(root, title, value_label, &grid, star)
@@ -53,8 +58,9 @@ pub fn plot_heatmap(
 /// Node coordinates and row-major values of a heat map.
 struct Grid<'a> {
     omega: &'a [f64],
-    v0: &'a [f64],
+    set_point: &'a [f64],
     values: &'a [Option<f64>],
+    kind: crate::model::SetPoint,
 }
 
 fn draw_heatmap(
@@ -67,9 +73,9 @@ fn draw_heatmap(
     let (plot_area, bar_area, legend_area) = plane_figure(root, title)?;
 
     let x_edges = cell_edges(grid.omega);
-    let y_edges = cell_edges(grid.v0);
+    let y_edges = cell_edges(grid.set_point);
     let optimum = star
-        .map(|s| (s.omega_rpm, s.v0_m_per_h))
+        .map(|s| (s.omega_rpm, s.set_point))
         .filter(is_finite_point);
     let star_label = star.map_or("", |s| s.label.as_str());
     let view = |edges: &[Option<(f64, f64)>], opt: Option<f64>| {
@@ -90,6 +96,7 @@ fn draw_heatmap(
         (x_lo, x_hi),
         (y_lo, y_hi),
         None,
+        grid.kind,
     )?;
 
     // Cells at non-finite nodes are not drawn, so their values do not set the colour range.
@@ -147,14 +154,14 @@ fn draw_heatmap(
 mod tests {
     use super::*;
     use crate::report::study_plots::style::{
-        COLORBAR_STEPS, OMEGA_LABEL, STAR_FILL, V0_LABEL, viridis,
+        COLORBAR_STEPS, OMEGA_LABEL, STAR_FILL, set_point_label, viridis,
     };
     use crate::report::study_plots::test_support::*;
 
-    fn starred(omega_rpm: f64, v0_m_per_h: f64) -> StarredPoint {
+    fn starred(omega_rpm: f64, set_point: f64) -> StarredPoint {
         StarredPoint {
             omega_rpm,
-            v0_m_per_h,
+            set_point,
             label: "best map node".to_owned(),
         }
     }
@@ -176,6 +183,7 @@ mod tests {
             &v0,
             &values,
             Some(&starred(70.0, 15.0)),
+            crate::model::SetPoint::Feed,
             &out,
         )
         .unwrap();
@@ -187,7 +195,7 @@ mod tests {
                 "Robust score over the grid",
                 "score J",
                 OMEGA_LABEL,
-                V0_LABEL,
+                &set_point_label(crate::model::SetPoint::Feed),
                 "max 4.000",
                 "min -1.000",
                 "no value (infeasible/failed)",
@@ -231,6 +239,7 @@ mod tests {
             &[1.0, 2.0, 3.0],
             &[Some(1.0); 5],
             None,
+            crate::model::SetPoint::Feed,
             &out,
         )
         .unwrap_err();
@@ -254,7 +263,17 @@ mod tests {
     fn heatmap_with_empty_missing_or_degenerate_grids_still_plots() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("heat.svg");
-        plot_heatmap("Empty", "J", &[], &[], &[], None, &out).unwrap();
+        plot_heatmap(
+            "Empty",
+            "J",
+            &[],
+            &[],
+            &[],
+            None,
+            crate::model::SetPoint::Feed,
+            &out,
+        )
+        .unwrap();
         let svg = read(&out);
         assert_svg(&svg);
         assert_contains(&svg, &["Empty", "J: no values"]);
@@ -266,6 +285,7 @@ mod tests {
             &[3.0],
             &[None, None],
             Some(&starred(9.0, 9.0)),
+            crate::model::SetPoint::Feed,
             &out,
         )
         .unwrap();
@@ -284,6 +304,7 @@ mod tests {
             &[10.0],
             &[Some(2.0), Some(5.0)],
             None,
+            crate::model::SetPoint::Feed,
             &out,
         )
         .unwrap();
@@ -304,6 +325,7 @@ mod tests {
             &[2.0, 20.0],
             &[Some(0.0), Some(0.0), None, Some(0.0), Some(0.0), Some(-0.0)],
             None,
+            crate::model::SetPoint::Feed,
             &out,
         )
         .unwrap();

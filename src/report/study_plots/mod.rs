@@ -34,21 +34,24 @@ pub use overlay::{OverlayRun, plot_bit_speed_overlay};
 pub struct Region {
     /// Bounds [low, high] of the rotational speed Ω, rpm.
     pub omega_rpm: [f64; 2],
-    /// Bounds [low, high] of the rate of penetration V0, m/h.
-    pub v0_m_per_h: [f64; 2],
+    /// Bounds [low, high] of the set-point: V0 in m/h, or the WOB in kN under a hook load.
+    pub set_point: [f64; 2],
+    /// What the set-point axis is.
+    pub kind: crate::model::SetPoint,
     /// Linear constraints; the feasible set is the box where all hold.
     pub lines: Vec<ConstraintLine>,
 }
 
-/// The linear constraint `omega_coef`·Ω + `v0_coef`·V0 ≤ `upper` (Ω in rpm, V0 in m/h).
+/// The linear constraint `omega_coef`·Ω + `set_point_coef`·s ≤ `upper` (Ω in rpm, the set-point s
+/// in its plot unit, m/h or kN).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ConstraintLine {
     /// Text drawn next to the line.
     pub label: String,
     /// Coefficient of Ω, per rpm (in the units of `upper`).
     pub omega_coef: f64,
-    /// Coefficient of V0, per m/h (in the units of `upper`).
-    pub v0_coef: f64,
+    /// Coefficient of the set-point, per m/h or per kN (in the units of `upper`).
+    pub set_point_coef: f64,
     /// Right-hand side.
     pub upper: f64,
 }
@@ -58,8 +61,8 @@ pub struct ConstraintLine {
 pub struct StarredPoint {
     /// Rotational speed Ω, rpm.
     pub omega_rpm: f64,
-    /// Rate of penetration V0, m/h.
-    pub v0_m_per_h: f64,
+    /// The set-point: V0 in m/h, or the WOB in kN.
+    pub set_point: f64,
     /// What the point is, for the legend and the caption.
     pub label: String,
 }
@@ -69,8 +72,8 @@ pub struct StarredPoint {
 pub struct EvaluatedPoint {
     /// Rotational speed Ω, rpm.
     pub omega_rpm: f64,
-    /// Rate of penetration V0, m/h.
-    pub v0_m_per_h: f64,
+    /// The set-point: V0 in m/h, or the WOB in kN.
+    pub set_point: f64,
     /// Robust score (maximised); None when the evaluation failed.
     pub score: Option<f64>,
     /// Whether the point satisfies every constraint.

@@ -58,11 +58,11 @@ fn draw_optimizer_path(
     let (plot_area, bar_area, legend_area) = plane_figure(root, title)?;
 
     let bx = finite_bounds(region.omega_rpm);
-    let by = finite_bounds(region.v0_m_per_h);
+    let by = finite_bounds(region.set_point);
     let the_box = bx.zip(by);
     let points: Vec<&EvaluatedPoint> = evaluated
         .iter()
-        .filter(|p| p.omega_rpm.is_finite() && p.v0_m_per_h.is_finite())
+        .filter(|p| p.omega_rpm.is_finite() && p.set_point.is_finite())
         .collect();
     let path_points: Vec<(usize, (f64, f64))> = path
         .iter()
@@ -75,7 +75,7 @@ fn draw_optimizer_path(
         the_box
             .into_iter()
             .flat_map(|((x0, x1), (y0, y1))| [(x0, y0), (x1, y1)])
-            .chain(points.iter().map(|p| (p.omega_rpm, p.v0_m_per_h)))
+            .chain(points.iter().map(|p| (p.omega_rpm, p.set_point)))
             .chain(path_points.iter().map(|p| p.1))
             .chain(optimum)
     };
@@ -89,18 +89,21 @@ fn draw_optimizer_path(
         (x_lo, x_hi),
         (y_lo, y_hi),
         Some((0.04, 0.12)),
+        region.kind,
     )?;
 
     let lines: Vec<&ConstraintLine> = region
         .lines
         .iter()
-        .filter(|c| c.omega_coef.is_finite() && c.v0_coef.is_finite() && c.upper.is_finite())
+        .filter(|c| c.omega_coef.is_finite() && c.set_point_coef.is_finite() && c.upper.is_finite())
         .collect();
     let mut any_infeasible = false;
     if let Some((bx, by)) = the_box {
         let shaded: Vec<Vec<(f64, f64)>> = lines
             .iter()
-            .filter_map(|c| clip_box_to_halfplane(bx, by, (c.omega_coef, c.v0_coef, c.upper)))
+            .filter_map(|c| {
+                clip_box_to_halfplane(bx, by, (c.omega_coef, c.set_point_coef, c.upper))
+            })
             .collect();
         any_infeasible = !shaded.is_empty();
         chart.draw_series(
@@ -117,7 +120,7 @@ fn draw_optimizer_path(
         let Some((p, q)) = clip_line_to_box(
             (x_lo, x_hi),
             (y_lo, y_hi),
-            (c.omega_coef, c.v0_coef, c.upper),
+            (c.omega_coef, c.set_point_coef, c.upper),
         ) else {
             continue;
         };
@@ -142,12 +145,12 @@ fn draw_optimizer_path(
         points
             .iter()
             .filter(|p| scored(p).is_none())
-            .map(|p| Cross::new((p.omega_rpm, p.v0_m_per_h), 5, NO_VALUE.stroke_width(2))),
+            .map(|p| Cross::new((p.omega_rpm, p.set_point), 5, NO_VALUE.stroke_width(2))),
     )?;
     if let Some(range) = range {
         for p in points.iter().filter(|p| scored(p).is_some()) {
             let s = scored(p).unwrap_or(range.0);
-            let at = (p.omega_rpm, p.v0_m_per_h);
+            let at = (p.omega_rpm, p.set_point);
             chart.draw_series([
                 Circle::new(at, 6, scale_color(s, range).filled()),
                 Circle::new(at, 6, BLACK.mix(0.7).stroke_width(1)),
@@ -250,7 +253,7 @@ fn draw_path(chart: &mut XyChart<'_, '_>, points: &[(usize, (f64, f64))]) -> Dra
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::study_plots::style::{OMEGA_LABEL, STAR_FILL, V0_LABEL, viridis};
+    use crate::report::study_plots::style::{OMEGA_LABEL, STAR_FILL, set_point_label, viridis};
     use crate::report::study_plots::test_support::*;
 
     #[test]
@@ -281,7 +284,7 @@ mod tests {
             &[
                 "Trust-region path",
                 OMEGA_LABEL,
-                V0_LABEL,
+                &set_point_label(crate::model::SetPoint::Feed),
                 "torque limit",
                 "min V0/\u{3a9}",
                 "score (higher is better)",
@@ -337,7 +340,8 @@ mod tests {
         let out = dir.path().join("empty.svg");
         let empty = Region {
             omega_rpm: [f64::NAN, 100.0],
-            v0_m_per_h: [5.0, 30.0],
+            set_point: [5.0, 30.0],
+            kind: crate::model::SetPoint::Feed,
             lines: vec![],
         };
         plot_optimizer_path(&empty, &[], &[], None, "Nothing yet", &out).unwrap();
@@ -349,13 +353,13 @@ mod tests {
 
         let nan_point = EvaluatedPoint {
             omega_rpm: f64::NAN,
-            v0_m_per_h: 1.0,
+            set_point: 1.0,
             score: Some(1.0),
             feasible: true,
         };
         let nan_score = EvaluatedPoint {
             omega_rpm: 50.0,
-            v0_m_per_h: 10.0,
+            set_point: 10.0,
             score: Some(f64::NAN),
             feasible: true,
         };
@@ -363,7 +367,7 @@ mod tests {
         r.lines.push(ConstraintLine {
             label: "broken".into(),
             omega_coef: f64::NAN,
-            v0_coef: 1.0,
+            set_point_coef: 1.0,
             upper: 1.0,
         });
         plot_optimizer_path(
@@ -393,17 +397,18 @@ mod tests {
     fn a_single_scored_point_and_an_all_infeasible_box_plot() {
         let r = Region {
             omega_rpm: [100.0, 100.0],
-            v0_m_per_h: [10.0, 20.0],
+            set_point: [10.0, 20.0],
+            kind: crate::model::SetPoint::Feed,
             lines: vec![ConstraintLine {
                 label: "impossible".into(),
                 omega_coef: 0.0,
-                v0_coef: 0.0,
+                set_point_coef: 0.0,
                 upper: -1.0,
             }],
         };
         let p = EvaluatedPoint {
             omega_rpm: 100.0,
-            v0_m_per_h: 12.0,
+            set_point: 12.0,
             score: Some(3.0),
             feasible: true,
         };

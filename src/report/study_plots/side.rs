@@ -2,6 +2,7 @@
 //! plane and a side column, the chart with the caption of its starred point, and in the side
 //! column a colour bar with its range (or the value of a constant field) and a hand-drawn legend.
 
+use crate::model::SetPoint;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
@@ -10,7 +11,8 @@ use crate::report::axes::{Layout, XyChart, axis_range, tick_label, titled_figure
 use super::geometry::is_finite_point;
 use super::style::{
     Area, COLORBAR_STEPS, DrawResult, FONT, INFEASIBLE_FILL, NO_VALUE, NO_VALUE_CELL, OMEGA_LABEL,
-    PATH_COLOR, SIDE_WIDTH, V0_LABEL, fmt_sig, is_constant, star_marker, text_style, viridis,
+    PATH_COLOR, SIDE_WIDTH, fmt_sig, is_constant, set_point_label, star_marker, text_style,
+    viridis,
 };
 
 /// One row of a hand-drawn legend.
@@ -203,31 +205,36 @@ pub(super) fn plane_chart<'a, 'b>(
     x: (f64, f64),
     y: (f64, f64),
     grid: Option<(f64, f64)>,
+    kind: SetPoint,
 ) -> Result<XyChart<'a, 'b>, DrawingAreaErrorKind<std::io::Error>> {
     let layout = Layout {
         margin_right: 20,
         y_label_area: 75,
         grid,
     };
-    let caption = star_caption(what, point);
+    let caption = star_caption(what, point, kind);
+    let y_label = set_point_label(kind);
     xy_chart(
         area,
         Some((&caption, 17)),
         (OMEGA_LABEL, x),
-        (V0_LABEL, y),
+        (y_label.as_str(), y),
         layout,
     )
 }
 
-/// Caption text "`what`: Ω = … rpm, V0 = … m/h" for a starred point, or an empty string.
-pub(super) fn star_caption(what: &str, point: Option<(f64, f64)>) -> String {
+/// Caption text "`what`: Ω = … rpm, V0 = … m/h" (or "WOB = … kN") for a starred point, or an
+/// empty string.
+pub(super) fn star_caption(what: &str, point: Option<(f64, f64)>, kind: SetPoint) -> String {
     point
         .filter(is_finite_point)
         .map(|(o, v)| {
             format!(
-                "{what}: \u{3a9} = {} rpm, V0 = {} m/h",
+                "{what}: \u{3a9} = {} rpm, {} = {} {}",
                 fmt_sig(o),
-                fmt_sig(v)
+                kind.symbol(),
+                fmt_sig(v),
+                kind.unit()
             )
         })
         .unwrap_or_default()

@@ -2,6 +2,7 @@
 //! the optimum's star, number formatting, and rendering an SVG in memory then writing it
 //! atomically.
 
+use crate::model::SetPoint;
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -30,7 +31,10 @@ pub(super) const WIDE_WIDTH: u32 = 1000;
 pub(super) const COLORBAR_STEPS: usize = 64;
 pub(super) use crate::report::axes::FONT;
 pub(super) const OMEGA_LABEL: &str = "\u{3a9} [rpm]";
-pub(super) const V0_LABEL: &str = "V0 [m/h]";
+/// The label of the set-point axis: "V0 [m/h]", or "WOB [kN]" under a hook load.
+pub(super) fn set_point_label(kind: SetPoint) -> String {
+    format!("{} [{}]", kind.symbol(), kind.unit())
+}
 
 /// Points and cells without a value (failed, infeasible).
 pub(super) const NO_VALUE: RGBColor = RGBColor(150, 150, 150);

@@ -58,18 +58,19 @@ pub(super) fn near(c: RGBColor, hex: &str, tol: u8) -> bool {
 pub(super) fn region() -> Region {
     Region {
         omega_rpm: [40.0, 160.0],
-        v0_m_per_h: [5.0, 30.0],
+        set_point: [5.0, 30.0],
+        kind: crate::model::SetPoint::Feed,
         lines: vec![
             ConstraintLine {
                 label: "torque limit".into(),
                 omega_coef: 0.2,
-                v0_coef: 1.0,
+                set_point_coef: 1.0,
                 upper: 45.0,
             },
             ConstraintLine {
                 label: "min V0/\u{3a9}".into(),
                 omega_coef: 0.1,
-                v0_coef: -1.0,
+                set_point_coef: -1.0,
                 upper: 0.0,
             },
         ],
@@ -79,7 +80,7 @@ pub(super) fn region() -> Region {
 pub(super) fn feasible(r: &Region, (o, v): (f64, f64)) -> bool {
     r.lines
         .iter()
-        .all(|c| c.omega_coef * o + c.v0_coef * v <= c.upper)
+        .all(|c| c.omega_coef * o + c.set_point_coef * v <= c.upper)
 }
 
 /// A 5 × 4 grid of evaluated points, two of which failed.
@@ -91,7 +92,7 @@ pub(super) fn evaluated(r: &Region) -> Vec<EvaluatedPoint> {
             let failed = (i, j) == (1, 2) || (i, j) == (3, 0);
             out.push(EvaluatedPoint {
                 omega_rpm: o,
-                v0_m_per_h: v,
+                set_point: v,
                 score: (!failed)
                     .then(|| -((o - 110.0) / 50.0).powi(2) - ((v - 15.0) / 10.0).powi(2)),
                 feasible: feasible(r, (o, v)),
