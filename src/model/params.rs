@@ -49,7 +49,7 @@ pub struct Drillstring {
     /// confined added mass of the annulus to the lateral inertia, see
     /// [`super::Section::confined_added_mass`]. Left out of the canonical form (cache keys) when
     /// 0, so a problem without it keeps its key.
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub annulus_density: f64,
     /// Borehole radius R_bh, m.
     pub borehole_radius: f64,
@@ -64,7 +64,7 @@ pub struct Drillstring {
     /// with frequency (material hysteresis, the mud's viscous torque) that bounds them. The rigid
     /// motion carries no strain (K Q̇_rigid = 0), so β adds no load of the imposed motion. Left out
     /// of the serialised model when 0, so that the model hash of a problem without it is unchanged.
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub stiffness_damping: f64,
     /// Gravitational acceleration g, m/s², acting along −z.
     pub gravity: f64,
@@ -81,7 +81,7 @@ pub struct Drillstring {
     /// chatters at the element scale under the velocity-weakening bit torque (README,
     /// "Converged model"). Left out of the serialised model when 0, so that the model hash of a
     /// problem without it is unchanged.
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub bit_inertia: f64,
     /// How the top drive moves the string along its axis (`[operating_point] top`, MODEL.md
     /// §11.8): the paper's imposed feed, a hook-load set-point or an autodriller. Left out of the
@@ -89,11 +89,6 @@ pub struct Drillstring {
     /// unchanged.
     #[serde(skip_serializing_if = "super::TopDrive::is_feed")]
     pub top: super::TopDrive,
-}
-
-/// Whether a value is 0 (`serde(skip_serializing_if)`).
-fn is_zero(x: &f64) -> bool {
-    *x == 0.0
 }
 
 impl Drillstring {
@@ -153,7 +148,7 @@ pub struct OperatingPoint {
     pub v0: f64,
     /// The hook load's surface WOB set-point W, N (> 0 pushes towards the bit); 0 under the
     /// other tops.
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub wob: f64,
 }
 

@@ -48,17 +48,13 @@ impl ExploreJson {
     }
 }
 
-fn is_zero(x: &f64) -> bool {
-    *x == 0.0
-}
-
 /// One confirmed candidate: its point, explore score and full-fidelity score.
 #[derive(Debug, Clone, Serialize)]
 pub struct CandidateJson {
     pub omega_rpm: f64,
     /// The feed set-point (0 under a hook load, whose set-point is `wob_kn`).
     pub v0_m_per_h: f64,
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub wob_kn: f64,
     /// Score at the explore fidelity (the rank it was chosen by).
     pub explore_score: Option<f64>,

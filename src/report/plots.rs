@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::model::OperatingPoint;
+use crate::model::{OperatingPoint, SetPoint};
 use crate::sim::TimeSeries;
 
 use super::atomic::write_atomic;
@@ -125,8 +125,13 @@ struct BitFigure {
     title: &'static str,
     coordinate: Channel,
     rate: Channel,
-    /// The imposed rate: its symbol, its value (SI) at an operating point, the rate's plot unit.
-    imposed: (&'static str, fn(&OperatingPoint) -> f64, &'static str),
+    /// The imposed rate: its symbol, its value (SI) at an operating point (none where the top
+    /// does not impose it: a hook load's feed), the rate's plot unit.
+    imposed: (
+        &'static str,
+        fn(&OperatingPoint) -> Option<f64>,
+        &'static str,
+    ),
 }
 
 const BIT_AXIAL: BitFigure = BitFigure {
@@ -143,7 +148,11 @@ const BIT_AXIAL: BitFigure = BitFigure {
         |s| &s.bit_velocity,
         M_PER_H_PER_M_PER_S,
     ),
-    imposed: ("V0", |op| op.v0, "m/h"),
+    imposed: (
+        "V0",
+        |op| (op.kind() == SetPoint::Feed).then_some(op.v0),
+        "m/h",
+    ),
 };
 
 const BIT_ROTATION: BitFigure = BitFigure {
@@ -160,7 +169,7 @@ const BIT_ROTATION: BitFigure = BitFigure {
         |s| &s.bit_angular_velocity,
         RPM_PER_RAD_S,
     ),
-    imposed: ("\u{3a9}", |op| op.omega, "rpm"),
+    imposed: ("\u{3a9}", |op| Some(op.omega), "rpm"),
 };
 
 fn plot_bit_figure(
@@ -170,11 +179,9 @@ fn plot_bit_figure(
     path: &Path,
 ) -> Result<(), PlotError> {
     let (symbol, imposed, unit) = figure.imposed;
-    let value = imposed(op) * figure.rate.3;
-    let label = format!("{symbol} = {} {unit} (imposed at the top)", short(value));
-    // A hook load imposes no feed: its bit-velocity panel has no V0 line.
-    let reference = (symbol != "V0" || op.kind() == crate::model::SetPoint::Feed)
-        .then_some((value, label.as_str()));
+    let value = imposed(op).map(|v| v * figure.rate.3);
+    let label = value.map(|v| format!("{symbol} = {} {unit} (imposed at the top)", short(v)));
+    let reference = value.zip(label.as_deref());
     let panel = |(caption, y_label, y, scale): Channel, reference| Panel {
         caption,
         y_label,
@@ -390,6 +397,18 @@ mod tests {
         assert_eq!(data.len(), 2, "{counts:?}");
         assert!(data.iter().all(|&c| c <= 2 * PLOT_BUCKETS + 2), "{data:?}");
         assert!(svg.len() < 300_000, "{} bytes", svg.len());
+    }
+
+    #[test]
+    fn a_hook_loads_bit_axial_plot_names_its_wob_and_draws_no_feed_line() {
+        let s = synthetic_series(1_000);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bit_axial.svg");
+        let hook = OperatingPoint::hook_load(OP.omega, 50e3);
+        plot_bit_axial(&s, &hook, &path).unwrap();
+        let svg = read(&path);
+        assert!(svg.contains("\u{3a9} = 95.49 rpm, WOB = 50 kN"));
+        assert!(!svg.contains("imposed at the top"));
     }
 
     #[test]

@@ -73,14 +73,10 @@ pub struct PointJson {
     pub v0_m_s: f64,
     pub v0_m_per_h: f64,
     /// The hook load's WOB set-point (written only under a hook load).
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub wob_n: f64,
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub wob_kn: f64,
-}
-
-fn is_zero(x: &f64) -> bool {
-    *x == 0.0
 }
 
 impl PointJson {

@@ -108,17 +108,13 @@ pub struct PathPoint {
     /// The feed set-point (0 under a hook load).
     pub v0_m_s: f64,
     /// The hook load's WOB set-point, N (written only under a hook load).
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub wob_n: f64,
     /// −merit: the score, less any chance-constraint penalty.
     pub score: f64,
     /// Trust-region radius as a fraction of the bounds box (trust region only).
     pub radius: Option<f64>,
     pub evaluations: usize,
-}
-
-fn is_zero(x: &f64) -> bool {
-    *x == 0.0
 }
 
 impl PathPoint {

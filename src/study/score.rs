@@ -57,10 +57,10 @@ pub struct PointEvaluation {
     pub omega_rpm: f64,
     pub v0_m_per_h: f64,
     /// The hook load's WOB set-point, N (written only under a hook load).
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub wob_n: f64,
     /// The same in kN.
-    #[serde(skip_serializing_if = "is_zero")]
+    #[serde(skip_serializing_if = "crate::units::is_zero")]
     pub wob_kn: f64,
     /// The score (maximised); None when a sample failed.
     pub objective: Option<f64>,
@@ -85,10 +85,6 @@ pub struct PointEvaluation {
     pub samples: Vec<SampleResult>,
     /// The fidelity that produced the evaluation (`explore` only in a multi-fidelity solve).
     pub fidelity: super::Fidelity,
-}
-
-fn is_zero(x: &f64) -> bool {
-    *x == 0.0
 }
 
 impl PointEvaluation {

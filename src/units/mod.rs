@@ -79,6 +79,12 @@ pub fn round_point(x: f64) -> f64 {
         .unwrap_or(x)
 }
 
+/// Whether a value is exactly 0: `serde(skip_serializing_if = "crate::units::is_zero")` for a
+/// quantity that only some problems have (a hook load's WOB set-point).
+pub fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 /// `x` with at most 4 decimals and no trailing zeros (`30`, `111.1111`, `0.25`), for messages.
 pub fn short(x: f64) -> String {
     let s = format!("{x:.4}");

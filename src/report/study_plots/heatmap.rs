@@ -260,6 +260,37 @@ mod tests {
     }
 
     #[test]
+    fn a_hook_loads_map_has_a_wob_axis() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("heat.svg");
+        let star = StarredPoint {
+            omega_rpm: 45.0,
+            set_point: 58.3,
+            label: "best map node".into(),
+        };
+        plot_heatmap(
+            "Hook load",
+            "score J",
+            &[30.0, 60.0],
+            &[40.0, 60.0, 80.0],
+            &[Some(1.0), Some(2.0), Some(3.0), None, Some(0.5), Some(2.5)],
+            Some(&star),
+            crate::model::SetPoint::Wob,
+            &out,
+        )
+        .unwrap();
+        let svg = read(&out);
+        assert_contains(
+            &svg,
+            &[
+                "WOB [kN]",
+                "best map node: \u{3a9} = 45.00 rpm, WOB = 58.30 kN",
+            ],
+        );
+        assert!(!svg.contains("V0"));
+    }
+
+    #[test]
     fn heatmap_with_empty_missing_or_degenerate_grids_still_plots() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("heat.svg");
