@@ -119,6 +119,9 @@ pub fn plot_bit_rotation(
 /// unit of the label.
 type Channel = (&'static str, &'static str, fn(&TimeSeries) -> &[f64], f64);
 
+/// The rate a top imposes at an operating point (SI), none where it imposes none.
+type ImposedRate = fn(&OperatingPoint) -> Option<f64>;
+
 /// One of the paper's bit figures (Figs. 3, 4): a coordinate of the bit above, its rate below
 /// with the rate imposed at the top as the reference line.
 struct BitFigure {
@@ -127,11 +130,7 @@ struct BitFigure {
     rate: Channel,
     /// The imposed rate: its symbol, its value (SI) at an operating point (none where the top
     /// does not impose it: a hook load's feed), the rate's plot unit.
-    imposed: (
-        &'static str,
-        fn(&OperatingPoint) -> Option<f64>,
-        &'static str,
-    ),
+    imposed: (&'static str, ImposedRate, &'static str),
 }
 
 const BIT_AXIAL: BitFigure = BitFigure {
