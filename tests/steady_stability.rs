@@ -207,3 +207,53 @@ fn a_chance_constraint_keeps_a_study_on_stable_steady_states() {
     assert_eq!(points[1]["feasible"], true);
     assert!(rate(&points[1]) < 0.0, "{}", rate(&points[1]));
 }
+
+/// `verify` at seed_power_stability's optimum, which sits on its stability edge: the growth rate
+/// there is zero by construction and its relative change says nothing, so verify judges it by
+/// the shift of the edge along Ω, from the slope of its perturbed run. That slope is checked here
+/// against a central difference of the eigenvalue itself at ±0.1 rpm (the power-limit line, where
+/// the steady state changes branch and the growth rate has a kink, crosses V0 = 12.81 m/h at
+/// about 158.7 rpm: a difference over ±1 rpm straddles it and reads +0.38 instead of −0.49), and
+/// the shift against 1 %.
+#[test]
+fn verify_judges_a_stability_edge_by_where_it_lies() {
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/regression/seed_power_stability.toml"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(["verify", file, "--json", "--quiet"])
+        .args(["--omega", "158.4rpm", "--v0", "12.81m/h"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stderr)));
+    let g = &json["metrics"]["steady_growth_rate_per_s"];
+    let (value, perturbed) = (
+        g["value"].as_f64().unwrap(),
+        g["perturbed"].as_f64().unwrap(),
+    );
+    let shift = g["edge_shift"].as_f64().expect("judged by its edge");
+    assert!(value.abs() < 1e-3, "on the edge: {value}");
+    assert!(
+        shift > 0.0 && shift < drillopt::verify::EDGE_TOLERANCE,
+        "{shift}"
+    );
+    assert_eq!(g["verdict"], "converged");
+    // The slope per unit ln Ω: verify's from Ω·(1 + 1e-4), and a central difference over ±0.1 rpm.
+    let slope = (perturbed - value) / drillopt::verify::PERTURBATION;
+    let m = model("regression/seed_power_stability.toml");
+    let growth = |rpm: f64| {
+        steady_stability(&m, at(rpm, 12.81), Effects::ALL)
+            .unwrap()
+            .unwrap()
+            .growth_rate_per_s
+    };
+    let central = (growth(158.5) - growth(158.3)) / (158.5_f64 / 158.3).ln();
+    assert!(
+        (slope / central - 1.0).abs() < 0.1,
+        "slope {slope} per ln Ω against the central difference {central}"
+    );
+}

@@ -28,7 +28,9 @@ pub struct VerifyArgs {
     /// 1e-4) and "sensitivity" its relative change, the trajectory's own sensitivity; "verdict"
     /// is "converged", "not_converged" (a refinement beyond the limit: truncation) or
     /// "sensitive" (the perturbation alone beyond the limit: the window does not determine the
-    /// metric).
+    /// metric). A metric on a chance constraint's threshold carries "edge_shift": how far the
+    /// refinements move the threshold's crossing along Ω, relative to Ω (limit 1 %), which then
+    /// decides its verdict.
     #[arg(long)]
     pub json: bool,
     /// No progress messages.
@@ -141,14 +143,19 @@ fn verdict(r: &VerifyReport) -> String {
         .metrics
         .iter()
         .filter(|(_, v)| v.verdict == Verdict::NotConverged)
-        .map(|(k, v)| {
-            format!(
+        .map(|(k, v)| match v.edge_shift {
+            Some(shift) => format!(
+                "{k} sits on its chance threshold, and the refinements move that edge by {:.2} % of Ω > {:.0} %",
+                100.0 * shift,
+                100.0 * verify::EDGE_TOLERANCE
+            ),
+            None => format!(
                 "{k} changed {:.1} % > {:.0} % under the {} refinement{}",
                 100.0 * v.max_rel_change,
                 100.0 * v.limit,
                 v.beyond_limit.join(", "),
                 if v.beyond_limit.len() > 1 { "s" } else { "" }
-            )
+            ),
         })
         .collect();
     let sensitive: Vec<String> = r
@@ -260,6 +267,16 @@ fn print_table(
             100.0 * v.max_rel_change,
             100.0 * v.limit,
             v.verdict.text()
+        );
+    }
+    for (key, v) in r.metrics.iter().filter(|(_, v)| v.edge_shift.is_some()) {
+        println!(
+            "  {key} sits on its chance constraint's threshold (within its floor {}): judged by \
+             where that edge lies: the refinements move its crossing along Ω by {:.3} % of Ω \
+             (limit {:.0} %; the slope from the perturbed run), not by the value there",
+            significant(v.floor),
+            100.0 * v.edge_shift.unwrap_or(f64::NAN),
+            100.0 * verify::EDGE_TOLERANCE
         );
     }
     for run in &r.runs {

@@ -26,6 +26,15 @@
 //! refinement moves it beyond its limit while the perturbation does not: truncation), or
 //! sensitive (the perturbation alone moves it beyond its limit: the window does not determine
 //! it, and a longer window or a statistic over Monte Carlo samples is needed).
+//!
+//! A metric whose value at the point lies on a chance constraint's threshold (within its floor)
+//! is where a study's optimum often sits: on the edge of the feasible set. There the relative
+//! change is ill-posed (the steady growth rate at a stability edge is zero by construction, and
+//! any refinement moves its sign), and what the decision needs is where the edge lies. Such a
+//! metric is judged by its *edge shift*: how far along Ω each refinement moves the threshold's
+//! crossing, |refined − base| / |∂m/∂ln Ω|, the slope taken from the perturbed run, against
+//! [`EDGE_TOLERANCE`] of Ω. It applies only where the ordinary test fails and the perturbed run
+//! gives a finite, non-zero slope; otherwise the ordinary verdict stands.
 
 use crate::metrics::{self, Metrics, MetricsConfig, Source};
 use crate::model::{BasisSpec, OperatingPoint};
@@ -46,6 +55,10 @@ pub const SMOOTHING_DIVISOR: f64 = 2.0;
 /// metrics (on the seed at 60 rpm, 5 m/h it moves SSI, stick fraction and peak bit speed ratio
 /// by ≤ 0.1 %), so a larger change is the trajectory's, not the model's.
 pub const PERTURBATION: f64 = 1e-4;
+/// Largest shift of a chance constraint's edge along Ω, relative to Ω, that a refinement may
+/// make for a metric at its threshold (module doc): 1 %, finer than any study's Ω grid (the
+/// regression maps' cells are 5-9 % of Ω).
+pub const EDGE_TOLERANCE: f64 = 0.01;
 
 /// What `verify` concludes about one metric.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -183,6 +196,11 @@ pub struct MetricVerdict {
     pub worst: &'static str,
     /// Every refinement that moved it beyond `limit`.
     pub beyond_limit: Vec<&'static str>,
+    /// For a metric at a chance constraint's threshold judged by its edge (module doc): the
+    /// largest shift of the threshold's crossing along Ω over the refinements, relative to Ω
+    /// (limit [`EDGE_TOLERANCE`]); `None` where the ordinary test decides.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub edge_shift: Option<f64>,
     /// `verdict == Converged`.
     pub converged: bool,
 }
@@ -379,7 +397,24 @@ pub fn verify_with(
                 beyond_limit.push(run.name);
             }
         }
-        let verdict = Verdict::of(max_rel_change, sensitivity, d.class.tolerance());
+        let mut verdict = Verdict::of(max_rel_change, sensitivity, d.class.tolerance());
+        let edge_shift = match (verdict, perturbed) {
+            (Verdict::Converged, _) | (_, None) => None,
+            (_, Some(p)) => edge_shift(
+                value,
+                p,
+                &refined,
+                d.floor,
+                chance_thresholds(problem, d.key),
+            ),
+        };
+        if let Some(shift) = edge_shift {
+            verdict = if shift <= EDGE_TOLERANCE {
+                Verdict::Converged
+            } else {
+                Verdict::NotConverged
+            };
+        }
         verdicts.insert(
             d.key,
             MetricVerdict {
@@ -394,6 +429,7 @@ pub fn verify_with(
                 verdict,
                 worst,
                 beyond_limit,
+                edge_shift,
                 converged: verdict == Verdict::Converged,
             },
         );
@@ -421,6 +457,51 @@ pub fn verify_with(
         },
         runs: results.into_iter().map(|(r, _)| r).collect(),
     })
+}
+
+/// The thresholds of the problem's chance constraints on `key`.
+fn chance_thresholds(problem: &Problem, key: &str) -> Vec<f64> {
+    problem
+        .study
+        .constraints
+        .as_ref()
+        .map(|k| {
+            k.chance
+                .iter()
+                .filter(|c| c.metric == key)
+                .map(|c| c.threshold)
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The edge shift of a metric at a chance threshold (module doc): with `value` within `floor` of
+/// one of `thresholds` and the slope ∂m/∂ln Ω = (`perturbed` − `value`) / [`PERTURBATION`] finite
+/// and non-zero, the largest |refined − value| / |slope| (relative to Ω; NaN for a non-finite
+/// refined value); `None` otherwise.
+pub fn edge_shift(
+    value: f64,
+    perturbed: f64,
+    refined: &BTreeMap<&'static str, f64>,
+    floor: f64,
+    thresholds: Vec<f64>,
+) -> Option<f64> {
+    if !thresholds.iter().any(|t| (value - t).abs() <= floor) {
+        return None;
+    }
+    let slope = (perturbed - value) / PERTURBATION;
+    if !(slope.is_finite() && slope != 0.0) {
+        return None;
+    }
+    let shift = refined.values().fold(0.0_f64, |worst, &r| {
+        let s = (r - value).abs() / slope.abs();
+        if s.is_nan() || worst.is_nan() {
+            f64::NAN
+        } else {
+            worst.max(s)
+        }
+    });
+    Some(shift)
 }
 
 /// |r − value| / max(|value|, floor); 0 when the two are equal, infinities included (off bottom
@@ -534,6 +615,34 @@ fn run_variant(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_metric_at_its_threshold_is_judged_by_where_its_edge_lies() {
+        // m(Ω) = −0.8 (ln Ω − ln Ω_e) + δ: at Ω_e the base reads δ = −1e-5 (on the threshold 0,
+        // floor 0.01), the perturbed run −0.8e-4 more, so the slope is −0.8 per unit ln Ω; a
+        // refinement that adds 4e-3 moves the crossing by 4e-3 / 0.8 = 0.5 % of Ω.
+        let base = -1e-5;
+        let perturbed = base - 0.8 * PERTURBATION;
+        let refined = |r: f64| BTreeMap::from([("basis", base), ("mesh", r)]);
+        let shift = edge_shift(base, perturbed, &refined(base + 4e-3), 0.01, vec![0.0]).unwrap();
+        assert!((shift - 5e-3).abs() < 1e-9, "{shift}");
+        assert!(shift <= EDGE_TOLERANCE);
+        let far = edge_shift(base, perturbed, &refined(base - 2e-2), 0.01, vec![0.0]).unwrap();
+        assert!((far - 0.025).abs() < 1e-9 && far > EDGE_TOLERANCE, "{far}");
+        // Away from every threshold, or with no slope to read, the ordinary test decides.
+        assert_eq!(edge_shift(0.5, 0.6, &refined(0.7), 0.01, vec![0.0]), None);
+        assert_eq!(edge_shift(base, base, &refined(0.0), 0.01, vec![0.0]), None);
+        assert_eq!(
+            edge_shift(base, perturbed, &refined(0.0), 0.01, vec![]),
+            None
+        );
+        // A refinement that did not give a number is not converged.
+        assert!(
+            edge_shift(base, perturbed, &refined(f64::NAN), 0.01, vec![0.0])
+                .unwrap()
+                .is_nan()
+        );
+    }
 
     #[test]
     fn verdict_tells_truncation_from_sensitivity() {
