@@ -51,10 +51,10 @@ fn trust_region_solve_finds_the_optimum_an_exhaustive_map_gives() {
     println!(
         "map best: {:.1} rpm {:.2} m/h score {:.4}; solve: {:.1} rpm {:.2} m/h score {:.4} after {} points ({})",
         best.omega_rpm,
-        best.v0_m_per_h,
+        best.op().shown_set_point(),
         best.objective.unwrap(),
         opt.omega_rpm,
-        opt.v0_m_per_h,
+        opt.op().shown_set_point(),
         opt.objective.unwrap(),
         outcome.evaluations.len(),
         outcome.termination
@@ -66,10 +66,10 @@ fn trust_region_solve_finds_the_optimum_an_exhaustive_map_gives() {
         best.omega_rad_s
     );
     assert!(
-        (opt.v0_m_s - best.v0_m_s).abs() <= cell_v0 + 1e-12,
+        (opt.op().v0 - best.op().v0).abs() <= cell_v0 + 1e-12,
         "V0: solve {} vs map {} m/s (cell {cell_v0})",
-        opt.v0_m_s,
-        best.v0_m_s
+        opt.op().v0,
+        best.op().v0
     );
     assert!(
         opt.objective.unwrap() >= best.objective.unwrap() - 0.01 * range,

@@ -146,6 +146,19 @@ mod tests {
             .to_string();
         assert!(err.contains("no unit"), "{err}");
         assert!(super::parse_point("60rpm,5", SetPoint::Feed).is_err());
+        // A hook load's point is (Ω, WOB): its bare number is refused with a force's units, and
+        // a velocity is the wrong dimension.
+        let err = super::parse_point("60rpm,12", SetPoint::Wob)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("12kN") && err.contains("klbf") && !err.contains("m/h"),
+            "{err}"
+        );
+        let p = super::parse_point("60rpm,12klbf", SetPoint::Wob).unwrap();
+        assert_eq!((p.v0, p.kind()), (0.0, SetPoint::Wob));
+        assert!((p.wob - 12e3 * 4.4482216152605).abs() < 1e-6, "{}", p.wob);
+        assert!(super::parse_point("60rpm,5m/h", SetPoint::Wob).is_err());
         // 0 is 0 in every unit: off bottom needs none.
         assert_eq!(
             super::parse_point("60rpm,0", SetPoint::Feed).unwrap().v0,

@@ -78,6 +78,11 @@ pub(super) fn require_unit(what: &str, text: &str, dim: Dimension) -> anyhow::Re
                 crate::units::short(crate::units::to_rpm(v))
             ),
         ),
+        Dimension::Force => (
+            format!("{t}kN"),
+            "N, kN, MN, lbf, klbf",
+            format!("{t} N = {} kN", crate::units::short(v / 1e3)),
+        ),
         _ => (
             format!("{t}m/h"),
             "m/h, m/s, mm/s, m/min, ft/h",
@@ -463,10 +468,11 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDr
         "{}: Ω = {:.2} rpm, {}, {done} in {:.1} s ({} steps, {} rejected, min dt {:.2e} s)",
         s.record.problem,
         s.operating_point.omega_rpm,
-        if s.operating_point.wob_n != 0.0 {
-            format!("WOB set-point {:.3} kN", s.operating_point.wob_kn)
-        } else {
-            format!("V0 = {:.3} m/h", s.operating_point.v0_m_per_h)
+        match s.operating_point.set_point {
+            crate::model::SetPointValue::Wob { wob_kn, .. } =>
+                format!("WOB set-point {wob_kn:.3} kN"),
+            crate::model::SetPointValue::Feed { v0_m_per_h, .. } =>
+                format!("V0 = {v0_m_per_h:.3} m/h"),
         },
         st.wall_time_s,
         st.steps,

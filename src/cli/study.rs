@@ -269,8 +269,9 @@ pub(super) fn kind_of(points: &[PointEvaluation]) -> crate::model::SetPoint {
 }
 
 /// `V0`: the feed set-point (the autodriller's, which the bit reaches only below its limits; the
-/// ROP column is what it drilled), or under a hook load `WOB*`, the WOB set-point (the `WOB kN`
-/// column is the bit's mean WOB); `±`: the half-width of the score's confidence interval (95 %
+/// ROP column is what it drilled), or under a hook load `Wset`, the WOB set-point (the `WOB kN`
+/// column is the bit's mean WOB, the set-point less what the string's axial damping and wall
+/// drag take); `±`: the half-width of the score's confidence interval (95 %
 /// unless `uncertain.sequential.confidence` says otherwise); `n`: the samples the point used.
 pub(super) fn table_header(kind: crate::model::SetPoint) -> &'static str {
     match kind {
@@ -278,7 +279,7 @@ pub(super) fn table_header(kind: crate::model::SetPoint) -> &'static str {
             "    rpm   V0 m/h     score        ±    n  ROP m/h    SSI stick %  impacts/s  WOB kN feasible"
         }
         crate::model::SetPoint::Wob => {
-            "    rpm  WOB* kN     score        ±    n  ROP m/h    SSI stick %  impacts/s  WOB kN feasible"
+            "    rpm  Wset kN     score        ±    n  ROP m/h    SSI stick %  impacts/s  WOB kN feasible"
         }
     }
 }

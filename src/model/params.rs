@@ -216,6 +216,40 @@ impl OperatingPoint {
     }
 }
 
+/// The set-point of an operating point as the JSON reports write it (flattened beside Ω): the
+/// feed's `v0_m_s` and `v0_m_per_h`, or a hook load's `wob_n` and `wob_kn` (and then no V0,
+/// which would read as off-bottom rotation).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(untagged)]
+pub enum SetPointValue {
+    Feed { v0_m_s: f64, v0_m_per_h: f64 },
+    Wob { wob_n: f64, wob_kn: f64 },
+}
+
+impl SetPointValue {
+    /// The set-point of `op` (its own kind, [`OperatingPoint::kind`]).
+    pub fn of(op: &OperatingPoint) -> Self {
+        match op.kind() {
+            SetPoint::Feed => SetPointValue::Feed {
+                v0_m_s: op.v0,
+                v0_m_per_h: crate::units::to_m_per_h(op.v0),
+            },
+            SetPoint::Wob => SetPointValue::Wob {
+                wob_n: op.wob,
+                wob_kn: op.wob / 1e3,
+            },
+        }
+    }
+
+    /// The operating point at Ω (rad/s) with this set-point.
+    pub fn at(&self, omega: f64) -> OperatingPoint {
+        match *self {
+            SetPointValue::Feed { v0_m_s, .. } => OperatingPoint::feed(omega, v0_m_s),
+            SetPointValue::Wob { wob_n, .. } => OperatingPoint::hook_load(omega, wob_n),
+        }
+    }
+}
+
 /// The driller's second design variable besides Ω, which the top decides
 /// ([`crate::model::TopDrive::set_point`]): the feed V0 or the hook load's WOB.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]

@@ -594,8 +594,8 @@ fn constraints(
         c.record(
             "constraints.max_depth_of_cut",
             "is a line in (Omega, V0) (2 pi V0 / Omega <= d); under top = \"hook_load\" the \
-             design variables are Omega and the WOB: remove it (a chance constraint on \
-             depth_of_cut_mm limits the depth the bit cuts)"
+             design variables are Omega and the WOB, and the WOB set-point decides the depth of \
+             cut: remove it and bound the WOB (constraints.wob) instead"
                 .into(),
         );
     } else if let Some(d) = &k.max_depth_of_cut {

@@ -100,9 +100,9 @@ pub fn evaluations_csv<'a>(
                 out,
                 "{},{},{}",
                 number(p.omega_rpm),
-                number(match kind {
-                    crate::model::SetPoint::Feed => p.v0_m_per_h,
-                    crate::model::SetPoint::Wob => p.wob_kn,
+                number(match p.set_point {
+                    crate::model::SetPointValue::Feed { v0_m_per_h, .. } => v0_m_per_h,
+                    crate::model::SetPointValue::Wob { wob_kn, .. } => wob_kn,
                 }),
                 s.sample
             );
@@ -226,11 +226,11 @@ cov = 0.1
         metrics.insert("mean_rop_m_per_h".into(), 12.25);
         PointEvaluation {
             omega_rad_s: crate::units::from_rpm(90.0),
-            v0_m_s: crate::units::from_m_per_h(12.0),
             omega_rpm: 89.99999999999999,
-            v0_m_per_h: 12.000000000000002,
-            wob_n: 0.0,
-            wob_kn: 0.0,
+            set_point: crate::model::SetPointValue::Feed {
+                v0_m_s: crate::units::from_m_per_h(12.0),
+                v0_m_per_h: 12.000000000000002,
+            },
             objective: None,
             quantity: None,
             risk: Vec::new(),

@@ -3,6 +3,7 @@
 //! scores and the full-fidelity refinement (`confirmation`), and the simulations per fidelity (`work.by_fidelity`). Every field
 //! is null (or absent from `work`) for a solve at one fidelity.
 
+use crate::model::SetPoint;
 use crate::problem::study::Explore;
 use crate::solve::{Confirmation, SolveStatus};
 use crate::study::{PointEvaluation, RobustEvaluator};
@@ -52,10 +53,9 @@ impl ExploreJson {
 #[derive(Debug, Clone, Serialize)]
 pub struct CandidateJson {
     pub omega_rpm: f64,
-    /// The feed set-point (0 under a hook load, whose set-point is `wob_kn`).
-    pub v0_m_per_h: f64,
-    #[serde(skip_serializing_if = "crate::units::is_zero")]
-    pub wob_kn: f64,
+    /// The set-point: V0 or a hook load's WOB.
+    #[serde(flatten)]
+    pub set_point: crate::model::SetPointValue,
     /// Score at the explore fidelity (the rank it was chosen by).
     pub explore_score: Option<f64>,
     pub explore_feasible: bool,
@@ -73,6 +73,7 @@ pub struct ConfirmationJson {
     pub explore_status: SolveStatus,
     /// The explore's best point and score (null: none feasible at the explore fidelity).
     pub explore_best_omega_rpm: Option<f64>,
+    /// (null under a hook load, whose set-point is `explore_best_wob_kn`)
     pub explore_best_v0_m_per_h: Option<f64>,
     /// A hook load's WOB set-point of the explore's best point, kN.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -100,16 +101,21 @@ impl ConfirmationJson {
         ConfirmationJson {
             explore_status: c.explore_status,
             explore_best_omega_rpm: best.map(|b| b.omega_rpm),
-            explore_best_v0_m_per_h: best.map(|b| b.v0_m_per_h),
-            explore_best_wob_kn: best.filter(|b| b.wob_n != 0.0).map(|b| b.wob_kn),
+            explore_best_v0_m_per_h: best
+                .map(|b| b.op())
+                .filter(|op| op.kind() == SetPoint::Feed)
+                .map(|op| op.shown_set_point()),
+            explore_best_wob_kn: best
+                .map(|b| b.op())
+                .filter(|op| op.kind() == SetPoint::Wob)
+                .map(|op| op.shown_set_point()),
             explore_best_score: best.and_then(|b| b.objective),
             candidates: c
                 .candidates
                 .iter()
                 .map(|k| CandidateJson {
                     omega_rpm: k.full.omega_rpm,
-                    v0_m_per_h: k.full.v0_m_per_h,
-                    wob_kn: k.full.wob_kn,
+                    set_point: k.full.set_point,
                     explore_score: k.explore.objective,
                     explore_feasible: k.explore.feasible,
                     full_score: k.full.objective,

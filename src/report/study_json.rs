@@ -69,14 +69,9 @@ impl<'a> StudyHeader<'a> {
 pub struct PointJson {
     pub omega_rad_s: f64,
     pub omega_rpm: f64,
-    /// The feed set-point (0 under a hook load).
-    pub v0_m_s: f64,
-    pub v0_m_per_h: f64,
-    /// The hook load's WOB set-point (written only under a hook load).
-    #[serde(skip_serializing_if = "crate::units::is_zero")]
-    pub wob_n: f64,
-    #[serde(skip_serializing_if = "crate::units::is_zero")]
-    pub wob_kn: f64,
+    /// The set-point: V0 (`v0_m_s`, `v0_m_per_h`) or a hook load's WOB (`wob_n`, `wob_kn`).
+    #[serde(flatten)]
+    pub set_point: crate::model::SetPointValue,
 }
 
 impl PointJson {
@@ -85,10 +80,7 @@ impl PointJson {
         PointJson {
             omega_rad_s: op.omega,
             omega_rpm: crate::units::to_rpm(op.omega),
-            v0_m_s: op.v0,
-            v0_m_per_h: crate::units::to_m_per_h(op.v0),
-            wob_n: op.wob,
-            wob_kn: op.wob / 1e3,
+            set_point: crate::model::SetPointValue::of(&op),
         }
     }
 
@@ -97,10 +89,7 @@ impl PointJson {
         PointJson {
             omega_rad_s: p.omega_rad_s,
             omega_rpm: p.omega_rpm,
-            v0_m_s: p.v0_m_s,
-            v0_m_per_h: p.v0_m_per_h,
-            wob_n: p.wob_n,
-            wob_kn: p.wob_kn,
+            set_point: p.set_point,
         }
     }
 }
@@ -163,9 +152,10 @@ impl WorkJson {
 #[derive(Debug, Clone, Serialize)]
 pub struct EvaluationJson {
     pub omega_rad_s: f64,
-    pub v0_m_s: f64,
     pub omega_rpm: f64,
-    pub v0_m_per_h: f64,
+    /// The set-point: V0 or a hook load's WOB.
+    #[serde(flatten)]
+    pub set_point: crate::model::SetPointValue,
     pub objective: Option<f64>,
     /// Half-width of the score's bootstrap confidence interval (null: no score, or 1 sample).
     pub score_half_width: Option<f64>,
@@ -182,9 +172,8 @@ impl EvaluationJson {
     pub fn of(p: &PointEvaluation) -> Self {
         EvaluationJson {
             omega_rad_s: p.omega_rad_s,
-            v0_m_s: p.v0_m_s,
             omega_rpm: p.omega_rpm,
-            v0_m_per_h: p.v0_m_per_h,
+            set_point: p.set_point,
             objective: p.objective,
             score_half_width: p.score_half_width,
             samples_used: p.samples_used,

@@ -105,11 +105,9 @@ impl BlackBox for StudyBlackBox<'_, '_> {
 pub struct PathPoint {
     pub iteration: usize,
     pub omega_rad_s: f64,
-    /// The feed set-point (0 under a hook load).
-    pub v0_m_s: f64,
-    /// The hook load's WOB set-point, N (written only under a hook load).
-    #[serde(skip_serializing_if = "crate::units::is_zero")]
-    pub wob_n: f64,
+    /// The set-point: V0 or a hook load's WOB.
+    #[serde(flatten)]
+    pub set_point: crate::model::SetPointValue,
     /// −merit: the score, less any chance-constraint penalty.
     pub score: f64,
     /// Trust-region radius as a fraction of the bounds box (trust region only).
@@ -120,11 +118,7 @@ pub struct PathPoint {
 impl PathPoint {
     /// The operating point of the step.
     pub fn op(&self) -> OperatingPoint {
-        OperatingPoint {
-            omega: self.omega_rad_s,
-            v0: self.v0_m_s,
-            wob: self.wob_n,
-        }
+        self.set_point.at(self.omega_rad_s)
     }
 }
 
@@ -364,8 +358,7 @@ pub fn solve(
                     PathPoint {
                         iteration: it.iteration,
                         omega_rad_s: op.omega,
-                        v0_m_s: op.v0,
-                        wob_n: op.wob,
+                        set_point: crate::model::SetPointValue::of(&op),
                         score: -it.merit,
                         radius: it.radius,
                         evaluations: it.evaluations,

@@ -66,9 +66,10 @@ impl Confirmation {
 }
 
 fn same_point(a: &PointEvaluation, b: &PointEvaluation) -> bool {
-    a.omega_rad_s.to_bits() == b.omega_rad_s.to_bits()
-        && a.v0_m_s.to_bits() == b.v0_m_s.to_bits()
-        && a.wob_n.to_bits() == b.wob_n.to_bits()
+    let (p, q) = (a.op(), b.op());
+    p.omega.to_bits() == q.omega.to_bits()
+        && p.v0.to_bits() == q.v0.to_bits()
+        && p.wob.to_bits() == q.wob.to_bits()
 }
 
 /// The `n` best candidates of `points` in explore rank: feasible before infeasible, then by
@@ -297,11 +298,11 @@ mod tests {
     fn point(omega: f64, score: Option<f64>, feasible: bool) -> PointEvaluation {
         PointEvaluation {
             omega_rad_s: omega,
-            v0_m_s: 0.005,
             omega_rpm: crate::units::to_rpm(omega),
-            v0_m_per_h: 18.0,
-            wob_n: 0.0,
-            wob_kn: 0.0,
+            set_point: crate::model::SetPointValue::Feed {
+                v0_m_s: 0.005,
+                v0_m_per_h: 18.0,
+            },
             objective: score,
             quantity: score,
             risk: Vec::new(),

@@ -5,7 +5,7 @@
 use crate::model::OperatingPoint;
 use crate::problem::study::Study;
 use crate::stats::{self, Statistic, sample_seed, splitmix64_mix};
-use crate::units::{to_m_per_h, to_rpm};
+use crate::units::to_rpm;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -52,16 +52,10 @@ pub struct ChanceValue {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PointEvaluation {
     pub omega_rad_s: f64,
-    /// The feed set-point V0 (0 under a hook load).
-    pub v0_m_s: f64,
     pub omega_rpm: f64,
-    pub v0_m_per_h: f64,
-    /// The hook load's WOB set-point, N (written only under a hook load).
-    #[serde(skip_serializing_if = "crate::units::is_zero")]
-    pub wob_n: f64,
-    /// The same in kN.
-    #[serde(skip_serializing_if = "crate::units::is_zero")]
-    pub wob_kn: f64,
+    /// The set-point: V0 (`v0_m_s`, `v0_m_per_h`) or a hook load's WOB (`wob_n`, `wob_kn`).
+    #[serde(flatten)]
+    pub set_point: crate::model::SetPointValue,
     /// The score (maximised); None when a sample failed.
     pub objective: Option<f64>,
     /// Statistic of the quantity (ROP in m/h or efficiency) before the risk penalties.
@@ -89,11 +83,7 @@ pub struct PointEvaluation {
 
 impl PointEvaluation {
     pub fn op(&self) -> OperatingPoint {
-        OperatingPoint {
-            omega: self.omega_rad_s,
-            v0: self.v0_m_s,
-            wob: self.wob_n,
-        }
+        self.set_point.at(self.omega_rad_s)
     }
 }
 
@@ -214,11 +204,8 @@ pub fn score_interval(
 pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> PointEvaluation {
     let mut eval = PointEvaluation {
         omega_rad_s: op.omega,
-        v0_m_s: op.v0,
         omega_rpm: to_rpm(op.omega),
-        v0_m_per_h: to_m_per_h(op.v0),
-        wob_n: op.wob,
-        wob_kn: op.wob / 1e3,
+        set_point: crate::model::SetPointValue::of(&op),
         objective: None,
         quantity: None,
         risk: Vec::new(),

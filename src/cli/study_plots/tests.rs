@@ -84,11 +84,11 @@ pub(in crate::cli) fn point(study: &Study, omega_rpm: f64, v0_m_per_h: f64) -> P
     let feasible = chance.iter().all(|c| c.satisfied);
     PointEvaluation {
         omega_rad_s: omega_rpm / RPM,
-        v0_m_s: v0_m_per_h / MPH,
         omega_rpm,
-        v0_m_per_h,
-        wob_n: 0.0,
-        wob_kn: 0.0,
+        set_point: crate::model::SetPointValue::Feed {
+            v0_m_s: v0_m_per_h / MPH,
+            v0_m_per_h,
+        },
         objective: Some(quantity - risk.iter().map(|r| r.penalty).sum::<f64>()),
         quantity: Some(quantity),
         risk,
