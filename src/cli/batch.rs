@@ -90,6 +90,37 @@ pub fn check(
     }
 }
 
+/// Whether the constraints at their limit at the optimum `best` ([`crate::solve::activity`]) are
+/// those `[expect] active` declares: the reason a regression problem gives for its optimum is
+/// checked, not only its place. `None` when they agree, else what differs.
+pub fn held_by_mismatch(
+    declared: &[crate::problem::study::ActiveConstraint],
+    constraints: &crate::problem::study::Constraints,
+    best: &crate::study::PointEvaluation,
+) -> Option<String> {
+    use std::collections::BTreeSet;
+    let declared: BTreeSet<String> = declared.iter().map(|a| a.name(constraints.kind)).collect();
+    let held: BTreeSet<String> = crate::solve::activity(constraints, best)
+        .into_iter()
+        .filter(|a| a.at_limit)
+        .map(|a| a.name)
+        .collect();
+    (declared != held).then(|| {
+        let list = |s: &BTreeSet<String>| {
+            if s.is_empty() {
+                "none".to_string()
+            } else {
+                s.iter().cloned().collect::<Vec<_>>().join(", ")
+            }
+        };
+        format!(
+            "held by {} at the optimum, but [expect] active declares {}",
+            list(&held),
+            list(&declared)
+        )
+    })
+}
+
 pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
     let mut files = Vec::new();
     toml_files(&args.dir, &mut files)?;
@@ -143,12 +174,27 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
                     detail: "no feasible point".into(),
                 },
                 Some(b) => {
-                    let (pass, detail) = check(
+                    let (mut pass, mut detail) = check(
                         &expect,
                         problem.model.top.set_point(),
                         b.op(),
                         b.objective.unwrap_or(f64::NAN),
                     );
+                    if let (Some(declared), Some(k)) = (&expect.active, &problem.study.constraints)
+                    {
+                        match held_by_mismatch(declared, k, &b) {
+                            Some(why) => {
+                                pass = false;
+                                detail = format!("{detail}; {why}");
+                            }
+                            None if declared.is_empty() => detail.push_str(", held by none"),
+                            None => {
+                                let names: Vec<String> =
+                                    declared.iter().map(|a| a.name(k.kind)).collect();
+                                detail = format!("{detail}, held by {}", names.join(", "));
+                            }
+                        }
+                    }
                     Verdict {
                         problem: problem.name.clone(),
                         pass,
@@ -187,6 +233,38 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
 mod tests {
     use crate::model::{OperatingPoint, SetPoint};
     use crate::problem::study::Expect;
+
+    #[test]
+    fn the_declared_active_constraints_must_be_those_at_their_limit() {
+        use crate::problem::study::{ActiveConstraint, ChanceConstraint, Constraints};
+        let rpm = crate::units::from_rpm;
+        let c = Constraints {
+            omega: [rpm(30.0), rpm(150.0)],
+            kind: SetPoint::Feed,
+            set_point: [2.0 / 3600.0, 20.0 / 3600.0],
+            linear: Vec::new(),
+            chance: vec![ChanceConstraint {
+                metric: "fatigue_damage_per_h".into(),
+                threshold: 0.05,
+                max_probability: 0.1,
+            }],
+        };
+        let p = crate::solve::activity_tests::point(
+            OperatingPoint::feed(rpm(30.0), 5.0 / 3600.0),
+            &[0.0499],
+        );
+        let chance = ActiveConstraint::Chance("fatigue_damage_per_h".into());
+        let both = [ActiveConstraint::OmegaMin, chance.clone()];
+        assert_eq!(super::held_by_mismatch(&both, &c, &p), None);
+        let why = super::held_by_mismatch(&[chance], &c, &p).unwrap();
+        assert!(
+            why.contains("held by chance.fatigue_damage_per_h, omega.min")
+                && why.contains("declares chance.fatigue_damage_per_h"),
+            "{why}"
+        );
+        let why = super::held_by_mismatch(&[], &c, &p).unwrap();
+        assert!(why.ends_with("declares none"), "{why}");
+    }
 
     #[test]
     fn check_reports_each_range_it_misses() {

@@ -155,8 +155,14 @@ fn print_summary(
             outcome.status.text()
         )
     };
+    let held_by = || {
+        if let (Some(b), Some(k)) = (&outcome.best, &problem.study.constraints) {
+            study::print_held_by(k, b);
+        }
+    };
     let Some(c) = &outcome.confirmation else {
         study::print_best(outcome.best.as_ref(), &label, "no feasible point was found");
+        held_by();
         println!("  results in {}", out.display());
         return;
     };
@@ -165,6 +171,7 @@ fn print_summary(
         &format!("{label} (full fidelity)"),
         "no confirmed candidate is feasible at full fidelity",
     );
+    held_by();
     match outcome.best.as_ref().map(|b| c.explore_of(b)) {
         Some(Some(x)) => println!(
             "  the same point at the explore fidelity: score {:.3} ({})",

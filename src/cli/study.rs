@@ -230,6 +230,57 @@ pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str) {
     }
 }
 
+/// What holds `best` (`solve`'s optimum): the study's constraints at their limit
+/// ([`crate::solve::activity`]), each with its margin, or that none does; and the rig's limits
+/// that commanded an autodriller most of the window (simulator limits, not the study's).
+pub fn print_held_by(constraints: &crate::problem::study::Constraints, best: &PointEvaluation) {
+    let activity = crate::solve::activity(constraints, best);
+    let held: Vec<String> = activity
+        .iter()
+        .filter(|a| a.at_limit)
+        .map(|a| match a.name.strip_prefix("chance.") {
+            Some(metric) => {
+                let d = crate::report::MetricDisplay::of(metric);
+                format!(
+                    "{} ({} {} {} against {} {}, margin {:.1} %)",
+                    a.name,
+                    if best.samples_used > 1 {
+                        "its deciding quantile"
+                    } else {
+                        "at"
+                    },
+                    super::verify::significant(d.value(a.value)),
+                    d.unit,
+                    super::verify::significant(d.value(a.limit)),
+                    d.unit,
+                    100.0 * a.margin
+                )
+            }
+            None => a.name.clone(),
+        })
+        .collect();
+    if held.is_empty() {
+        println!("  held by no constraint of the study: an interior optimum of the score");
+    } else {
+        println!("  held by: {}", held.join("; "));
+    }
+    let m = |k: &str| best.mean_metrics.get(k).copied().unwrap_or(0.0);
+    for (key, what) in [
+        ("wob_limit_fraction", "the autodriller's WOB limit"),
+        (
+            "torque_limit_fraction",
+            "the autodriller's torque (or power) limit",
+        ),
+    ] {
+        if m(key) > 0.5 {
+            println!(
+                "  and by the rig: {what} commands the block {:.0} % of the window",
+                100.0 * m(key)
+            );
+        }
+    }
+}
+
 /// One line of a terminal table for a point.
 pub(super) fn table_row(p: &PointEvaluation) -> String {
     let score = p

@@ -241,6 +241,20 @@ pub enum ActiveConstraint {
     Chance(String),
 }
 
+impl ActiveConstraint {
+    /// Its name in `[expect] active` under the set-point `kind` (`"v0.max"`, or `"wob.max"`).
+    pub fn name(&self, kind: crate::model::SetPoint) -> String {
+        match self {
+            ActiveConstraint::OmegaMin => "omega.min".into(),
+            ActiveConstraint::OmegaMax => "omega.max".into(),
+            ActiveConstraint::SetPointMin => format!("{}.min", kind.key()),
+            ActiveConstraint::SetPointMax => format!("{}.max", kind.key()),
+            ActiveConstraint::Linear(label) => (*label).to_string(),
+            ActiveConstraint::Chance(metric) => format!("chance.{metric}"),
+        }
+    }
+}
+
 /// The optimum a regression problem is known to have: Ω in rad/s, the set-point in SI (V0 in
 /// m/s or the WOB in N, by [`Constraints::kind`]), the score in the objective's unit, each a
 /// closed range [min, max].

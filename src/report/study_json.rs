@@ -233,6 +233,11 @@ pub struct ConstraintsJson {
     pub wob_n: Option<[f64; 2]>,
     pub linear: Vec<LinearJson>,
     pub chance: Vec<ChanceValue>,
+    /// Every bound, linear and chance constraint with its margin at the optimum and whether it is
+    /// at its limit ([`crate::solve::activity`] states the rules).
+    pub activity: Vec<crate::solve::Activity>,
+    /// The names of those at their limit: what holds the optimum (`[expect] active`'s names).
+    pub held_by: Vec<String>,
 }
 
 impl ConstraintsJson {
@@ -242,6 +247,7 @@ impl ConstraintsJson {
         let scale = |l: &LinearConstraint| {
             (l.omega * c.omega[1]).abs() + (l.set_point * c.set_point[1]).abs() + l.upper.abs()
         };
+        let activity = crate::solve::activity(c, best);
         let feed = c.kind == crate::model::SetPoint::Feed;
         let s = best.op().set_point(c.kind);
         ConstraintsJson {
@@ -265,6 +271,12 @@ impl ConstraintsJson {
                 })
                 .collect(),
             chance: best.chance.clone(),
+            held_by: activity
+                .iter()
+                .filter(|a| a.at_limit)
+                .map(|a| a.name.clone())
+                .collect(),
+            activity,
         }
     }
 }

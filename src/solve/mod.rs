@@ -3,10 +3,14 @@
 //! robust optimum ([`solve`]), a grid of the feasible box ([`map`]) and given points ([`compare`]
 //! is just [`RobustEvaluator::evaluate`]).
 
+mod activity;
 mod check;
 mod multi_fidelity;
 mod scaling;
 
+#[cfg(test)]
+pub(crate) use activity::tests as activity_tests;
+pub use activity::{Activity, BOX_TOLERANCE, CHANCE_TOLERANCE, activity, deciding_quantile};
 pub use check::{CheckedMetric, NumericalCheck, numerical_check};
 pub use multi_fidelity::{Candidate, Confirmation, Refinement, candidates, solve_multi_fidelity};
 pub use scaling::Scaling;
