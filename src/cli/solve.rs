@@ -159,6 +159,11 @@ fn print_summary(
         if let (Some(b), Some(k)) = (&outcome.best, &problem.study.constraints) {
             study::print_held_by(k, b);
         }
+        if let Some(b) = &outcome.best {
+            for w in crate::solve::warnings(b, &problem.study.metrics_named()) {
+                println!("  warning: {w}");
+            }
+        }
     };
     let Some(c) = &outcome.confirmation else {
         study::print_best(outcome.best.as_ref(), &label, "no feasible point was found");

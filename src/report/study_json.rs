@@ -304,6 +304,9 @@ pub struct SolutionJson<'a> {
     pub work: WorkJson,
     /// The basis refinement at the optimum (nominal parameters) beside the spread over samples.
     pub numerical_check: Option<&'a NumericalCheck>,
+    /// Warnings on the dynamics at the optimum ([`crate::solve::warnings`]): sticking, a peak bit
+    /// speed, a critical speed near Ω, that the study does not score.
+    pub warnings: Vec<String>,
 }
 
 impl<'a> SolutionJson<'a> {
@@ -355,6 +358,9 @@ impl<'a> SolutionJson<'a> {
             path: &outcome.path,
             work,
             numerical_check: check,
+            warnings: best.map_or_else(Vec::new, |b| {
+                crate::solve::warnings(b, &study.metrics_named())
+            }),
         }
     }
 }

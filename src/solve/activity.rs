@@ -137,6 +137,80 @@ pub fn activity(c: &Constraints, p: &PointEvaluation) -> Vec<Activity> {
     out
 }
 
+/// Share of the window the bit may stick at an optimum without a warning: 5 % (a driller's
+/// severe stick-slip sticks for a large part of each cycle; the study benchmark's "no damage"
+/// optimum stuck 55 % of the time, unsaid: issue 33).
+pub const STICK_WARNING: f64 = 0.05;
+/// Peak bit speed over Ω above which an optimum is warned of: 2 (the slip phase of developed
+/// stick-slip spins the bit to two or three times Ω).
+pub const PEAK_SPEED_WARNING: f64 = 2.0;
+/// Relative distance of Ω to a critical speed below which an optimum is warned of: 5 %.
+pub const CRITICAL_SPEED_WARNING: f64 = 0.05;
+
+/// Warnings on the dynamics at an optimum `best`, from the worst of its samples (a mean would hide
+/// the sample that sticks): stick fraction above [`STICK_WARNING`], peak bit speed ratio above
+/// [`PEAK_SPEED_WARNING`], critical speed margin below [`CRITICAL_SPEED_WARNING`]. Each says the
+/// value, its threshold and how many samples pass it; none when the study constrains or penalises
+/// the metric itself (it then says what it is worth).
+pub fn warnings(best: &PointEvaluation, used: &[&str]) -> Vec<String> {
+    let per_sample = |key: &str| -> Vec<f64> {
+        best.samples
+            .iter()
+            .filter_map(|s| match &s.outcome {
+                SampleOutcome::Metrics(m) => m.get(key).copied().filter(|v| !v.is_nan()),
+                SampleOutcome::Failed(_) => None,
+            })
+            .collect()
+    };
+    let n = best.samples.len();
+    let mut out = Vec::new();
+    let checks: [(&str, bool, f64, fn(f64) -> String); 3] = [
+        ("stick_fraction", true, STICK_WARNING, |v| {
+            format!("the bit sticks {:.0} % of the window", 100.0 * v)
+        }),
+        ("max_bit_speed_ratio", true, PEAK_SPEED_WARNING, |v| {
+            format!("the bit's peak speed is {v:.2} Ω")
+        }),
+        (
+            "critical_speed_margin",
+            false,
+            CRITICAL_SPEED_WARNING,
+            |v| format!("Ω is {:.1} % from a critical speed", 100.0 * v),
+        ),
+    ];
+    for (key, above, threshold, say) in checks {
+        if used.contains(&key) {
+            continue;
+        }
+        let values = per_sample(key);
+        let beyond = |v: &f64| {
+            if above {
+                *v > threshold
+            } else {
+                *v < threshold
+            }
+        };
+        let count = values.iter().filter(|v| beyond(v)).count();
+        if count == 0 {
+            continue;
+        }
+        let worst = if above {
+            values.iter().cloned().fold(f64::MIN, f64::max)
+        } else {
+            values.iter().cloned().fold(f64::MAX, f64::min)
+        };
+        out.push(format!(
+            "{} in {} of {n} sample{} ({key} {} {}; the study neither scores nor constrains it)",
+            say(worst),
+            count,
+            if n == 1 { "" } else { "s" },
+            if above { "above" } else { "below" },
+            threshold
+        ));
+    }
+    out
+}
+
 /// The value of sorted `values` (n samples) that decides P(m > T) ≤ p: the smallest sample with at
 /// most ⌊p n⌋ samples above it, the ⌈(1 − p) n⌉-th (1-based); the largest when p n < 1.
 pub fn deciding_quantile(sorted: &[f64], p: f64) -> f64 {
@@ -244,6 +318,42 @@ pub(crate) mod tests {
         assert_eq!(held(&top), ["wob.max"]);
         let slow = point(OperatingPoint::hook_load(rpm(30.0), 60e3), &[0.0]);
         assert_eq!(held(&slow), ["omega.min"]);
+    }
+
+    #[test]
+    fn an_optimum_that_sticks_or_sits_near_a_critical_speed_is_warned_of() {
+        let mut p = point(OperatingPoint::feed(6.0, 1e-3), &[0.0, 0.0]);
+        let set = |p: &mut PointEvaluation, k: usize, key: &str, v: f64| {
+            if let SampleOutcome::Metrics(m) = &mut p.samples[k].outcome {
+                m.insert(key.into(), v);
+            }
+        };
+        for k in 0..2 {
+            set(&mut p, k, "stick_fraction", [0.0, 0.55][k]);
+            set(&mut p, k, "max_bit_speed_ratio", [1.2, 2.8][k]);
+            set(&mut p, k, "critical_speed_margin", 0.3);
+        }
+        let w = warnings(&p, &["mean_rop_m_per_h"]);
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(
+            w[0].starts_with("the bit sticks 55 % of the window in 1 of 2 samples"),
+            "{w:?}"
+        );
+        assert!(
+            w[1].starts_with("the bit's peak speed is 2.80 Ω in 1 of 2 samples"),
+            "{w:?}"
+        );
+        // A metric the study scores or constrains is its own warning.
+        assert_eq!(
+            warnings(&p, &["stick_fraction", "max_bit_speed_ratio"]).len(),
+            0
+        );
+        set(&mut p, 1, "critical_speed_margin", 0.013);
+        let w = warnings(&p, &["stick_fraction", "max_bit_speed_ratio"]);
+        assert!(
+            w.len() == 1 && w[0].starts_with("Ω is 1.3 % from a critical speed"),
+            "{w:?}"
+        );
     }
 
     #[test]

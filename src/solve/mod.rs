@@ -10,7 +10,10 @@ mod scaling;
 
 #[cfg(test)]
 pub(crate) use activity::tests as activity_tests;
-pub use activity::{Activity, BOX_TOLERANCE, CHANCE_TOLERANCE, activity, deciding_quantile};
+pub use activity::{
+    Activity, BOX_TOLERANCE, CHANCE_TOLERANCE, CRITICAL_SPEED_WARNING, PEAK_SPEED_WARNING,
+    STICK_WARNING, activity, deciding_quantile, warnings,
+};
 pub use check::{CheckedMetric, NumericalCheck, numerical_check};
 pub use multi_fidelity::{Candidate, Confirmation, Refinement, candidates, solve_multi_fidelity};
 pub use scaling::Scaling;
