@@ -164,7 +164,9 @@ pub fn warnings(best: &PointEvaluation, used: &[&str]) -> Vec<String> {
     };
     let n = best.samples.len();
     let mut out = Vec::new();
-    let checks: [(&str, bool, f64, fn(f64) -> String); 3] = [
+    // (metric, warned above (else below), threshold, what the worst value says)
+    type Check = (&'static str, bool, f64, fn(f64) -> String);
+    let checks: [Check; 3] = [
         ("stick_fraction", true, STICK_WARNING, |v| {
             format!("the bit sticks {:.0} % of the window", 100.0 * v)
         }),
