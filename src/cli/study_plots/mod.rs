@@ -247,10 +247,12 @@ pub fn map_plots(problem: &Problem, out: &Path, m: &MapOutcome) -> anyhow::Resul
         set_point: m.kind.to_unit(b.op().set_point(m.kind)),
         label: BEST_NODE.to_owned(),
     });
+    // An infeasible node has a score but is not a candidate: grey, as a failed one (the table
+    // and map.json say why).
     let scores: Vec<Option<f64>> = m
         .points
         .iter()
-        .map(|p| p.as_ref().and_then(|p| p.objective))
+        .map(|p| p.as_ref().filter(|p| p.feasible).and_then(|p| p.objective))
         .collect();
     report::plot_heatmap(
         &format!("{}: robust score (higher is better)", problem.name),

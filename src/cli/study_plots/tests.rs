@@ -126,6 +126,13 @@ pub(in crate::cli) fn map_4x4(study: &Study) -> MapOutcome {
             points.push((i + j < 4).then(|| point(study, w * RPM, v * MPH)));
         }
     }
+    // The fixture's chance constraint fails at every node (P(impacts > 50) = 25 %); the map
+    // shows nodes feasible but for the one at 40 rpm, 20 m/h, the highest score.
+    for (k, p) in points.iter_mut().enumerate() {
+        if let Some(p) = p {
+            p.feasible = k != 12;
+        }
+    }
     let best = points[4 + 1].clone();
     MapOutcome {
         grid: [4, 4],
@@ -237,6 +244,20 @@ fn map_plots_name_metrics_with_units_show_constants_and_star_the_best_node() {
         assert!(texts(&objective).contains(&text), "{text:?}");
     }
     assert!(!objective.contains("optimum"));
+    // The infeasible node (40 rpm, 20 m/h) is grey: the colour bar's top is the best feasible
+    // score (14 m/h less the same penalties), not its score.
+    let score = |k: usize| m.points[k].as_ref().unwrap().objective.unwrap();
+    let top = texts(&objective)
+        .into_iter()
+        .find_map(|t| t.strip_prefix("max ").map(|x| x.parse::<f64>().unwrap()))
+        .unwrap();
+    assert!(
+        (top - score(8)).abs() < 1e-2 * score(8).abs(),
+        "{top} vs {}",
+        score(8)
+    );
+    assert!(score(12) > score(8) + 1.0);
+    assert!(texts(&objective).contains(&"no value (infeasible/failed)"));
 
     // Mapped metrics are named for a reader, in driller units, never by their code key.
     let mse = read("map_mse_pa.svg");
