@@ -1,7 +1,8 @@
 //! A hook-load study through the binary (issue 29, item 2): `map` and `compare` over (Ω, WOB) on
 //! `problems/regression/slim_pipe_hook_load.toml`. The WOB set-point is what each point reports
 //! (no V0, which would read as off-bottom rotation), the bit drills the ROP Detournay's law gives
-//! that weight, and a point of the map pasted into `compare` is the same evaluation.
+//! that weight, and a point of the map pasted into `compare` (as the terminal prints it) is the
+//! same evaluation.
 
 use std::f64::consts::PI;
 use std::path::Path;
@@ -115,4 +116,18 @@ fn a_map_and_compare_over_omega_and_wob() {
     assert_eq!(p["wob_n"], 65e3);
     assert_eq!(p["objective"], node["objective"]);
     assert_eq!(p["feasible"], node["feasible"]);
+    // The map's best node, pasted as the terminal says: the same point, the same score.
+    let flag = table
+        .lines()
+        .find_map(|l| l.split("drillopt compare PROBLEM --point ").nth(1))
+        .and_then(|rest| rest.split_whitespace().next())
+        .expect("the paste line");
+    assert!(flag.ends_with("kN"), "{flag}");
+    let again_dir = dir.path().join("again");
+    drillopt(&["compare", FILE, "--point", flag, "--quiet"], &again_dir);
+    let again = json(&again_dir.join("compare.json"));
+    let best = map["optimum"].clone();
+    assert_eq!(again["points"][0]["omega_rad_s"], best["omega_rad_s"]);
+    assert_eq!(again["points"][0]["wob_n"], best["wob_n"]);
+    assert_eq!(again["points"][0]["objective"], map["optimum_objective"]);
 }

@@ -212,6 +212,21 @@ pub fn print_fidelity_table(points: &[PointEvaluation]) {
     }
 }
 
+/// `--point OMEGA,SET` of `op` with the digits that reproduce it: the evaluator snaps every
+/// point to 12 significant digits in rpm, m/h or kN ([`OperatingPoint::canonical`]), so these
+/// digits give the same bits, the same cache entry and the same score (a point printed to one
+/// decimal, 111.1 rpm for 111.111111111, is another point: on a depth-of-cut line it was
+/// infeasible by round-off, issue 33).
+pub fn point_flag(op: &crate::model::OperatingPoint) -> String {
+    let c = op.canonical();
+    format!(
+        "--point {}rpm,{}{}",
+        crate::units::round_point(crate::units::to_rpm(c.omega)),
+        crate::units::round_point(c.shown_set_point()),
+        c.kind().unit()
+    )
+}
+
 /// The best point's line, or `none` when there is none.
 pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str) {
     match best {
@@ -227,6 +242,13 @@ pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str) {
             crate::units::count(b.samples_used, "sample")
         ),
         None => println!("{none}"),
+    }
+    if let Some(b) = best {
+        println!(
+            "  the same point again: drillopt compare PROBLEM {} (the rounded figures above are \
+             another point)",
+            point_flag(&b.op())
+        );
     }
 }
 

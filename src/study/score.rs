@@ -103,6 +103,17 @@ pub fn metric_map(m: &crate::metrics::Metrics) -> BTreeMap<String, f64> {
 /// active constraint may miss it by round-off.
 const CONSTRAINT_SLACK: f64 = 1e-9;
 
+/// `value` and `limit` with the fewest decimals (at least `min`, at most 9) that tell them apart:
+/// a point just past a limit (a printed optimum rounded to 111.1 rpm on a depth-of-cut line)
+/// read "3.000 mm exceeds 3.000 mm".
+fn apart(value: f64, limit: f64, min: usize) -> (String, String) {
+    let mut d = min;
+    while d < 9 && format!("{value:.d$}") == format!("{limit:.d$}") {
+        d += 1;
+    }
+    (format!("{value:.d$}"), format!("{limit:.d$}"))
+}
+
 /// The bounds and linear constraints that `op` violates, each said in driller units.
 pub fn deterministic_violations(
     k: &crate::problem::study::Constraints,
@@ -113,9 +124,14 @@ pub fn deterministic_violations(
         x < lo - CONSTRAINT_SLACK * lo.abs() || x > hi + CONSTRAINT_SLACK * hi.abs()
     };
     if outside(op.omega, k.omega) {
+        let nearest = if op.omega < k.omega[0] {
+            k.omega[0]
+        } else {
+            k.omega[1]
+        };
+        let (v, _) = apart(to_rpm(op.omega), to_rpm(nearest), 1);
         out.push(format!(
-            "Ω = {:.1} rpm is outside the bounds [{:.1}, {:.1}] rpm",
-            to_rpm(op.omega),
+            "Ω = {v} rpm is outside the bounds [{:.1}, {:.1}] rpm",
             to_rpm(k.omega[0]),
             to_rpm(k.omega[1])
         ));
@@ -123,10 +139,15 @@ pub fn deterministic_violations(
     let s = op.set_point(k.kind);
     if outside(s, k.set_point) {
         let unit = k.kind.unit();
+        let nearest = if s < k.set_point[0] {
+            k.set_point[0]
+        } else {
+            k.set_point[1]
+        };
+        let (v, _) = apart(k.kind.to_unit(s), k.kind.to_unit(nearest), 2);
         out.push(format!(
-            "{} = {:.2} {unit} is outside the bounds [{:.2}, {:.2}] {unit}",
+            "{} = {v} {unit} is outside the bounds [{:.2}, {:.2}] {unit}",
             k.kind.symbol(),
-            k.kind.to_unit(s),
             k.kind.to_unit(k.set_point[0]),
             k.kind.to_unit(k.set_point[1])
         ));
@@ -137,11 +158,12 @@ pub fn deterministic_violations(
         if value > l.upper + CONSTRAINT_SLACK * scale {
             out.push(if l.label == "max_depth_of_cut" {
                 // 2π V0 − d Ω ≤ 0: say it as the depth of cut per revolution.
-                format!(
-                    "the depth of cut 2π V0/Ω = {:.3} mm exceeds max_depth_of_cut = {:.3} mm",
+                let (depth, limit) = apart(
                     1e3 * 2.0 * std::f64::consts::PI * op.v0 / op.omega,
-                    -1e3 * l.omega
-                )
+                    -1e3 * l.omega,
+                    3,
+                );
+                format!("the depth of cut 2π V0/Ω = {depth} mm exceeds max_depth_of_cut = {limit} mm")
             } else {
                 format!(
                     "the linear constraint {:.6e} Ω + {:.6e} {} ≤ {:.6e} (SI) is violated: {value:.6e}",
@@ -371,6 +393,13 @@ mod constraint_tests {
         assert_eq!(
             deterministic_violations(&k, at(0.999 * vertex, 20.0)).len(),
             1
+        );
+        // The vertex printed to one decimal, 111.1 rpm, is 0.01 % past the line: said with the
+        // digits that show it, not "3.000 mm exceeds 3.000 mm".
+        let v = deterministic_violations(&k, at(111.1, 20.0));
+        assert!(
+            v[0].contains("3.0003 mm exceeds max_depth_of_cut = 3.0000 mm"),
+            "{v:?}"
         );
         assert!(deterministic_violations(&k, at(60.0, 5.0)).is_empty());
     }
