@@ -123,8 +123,13 @@ mod tests {
             lines[16]
         );
         assert!(lines[1].starts_with("   40.0     2.00 "), "{}", lines[1]);
-        // Every node of the fixture fails its chance constraint.
-        assert!(lines[1].ends_with("no"), "{}", lines[1]);
+        // The fixture's nodes are feasible but for (40 rpm, 20 m/h), marked infeasible.
+        assert!(lines[1].ends_with("yes"), "{}", lines[1]);
+        assert!(
+            lines[13].starts_with("   40.0    20.00 ") && lines[13].ends_with("no"),
+            "{}",
+            lines[13]
+        );
     }
 
     #[test]
