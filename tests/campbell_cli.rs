@@ -239,3 +239,46 @@ fn simulate_and_studies_report_the_margin_of_the_critical_speeds_campbell_finds(
         assert!((value - expected).abs() < 1e-6, "{value} vs {expected}");
     }
 }
+
+/// Critical speeds per family (issue 33 item 3): on the 466 m collar string the first torsional
+/// mode (1.687 Hz) and an axial one (2.720 Hz) lie low enough to meet the 1× line inside 20-200
+/// rpm (at 101.2 and 163.2 rpm), where nothing in a drillstring drives them; only the bit's 3×
+/// does (at 33.7 and 54.4 rpm). Bending modes keep both lines.
+#[test]
+fn axial_and_torsional_modes_meet_the_bits_multiple_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(["campbell", "problems/long_collars.toml", "--quiet", "--out"])
+        .arg(dir.path())
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let c = json(&dir.path().join("campbell.json"));
+    let speeds = c["critical_speeds"].as_array().unwrap();
+    let of = |family: &str| -> Vec<(f64, f64)> {
+        speeds
+            .iter()
+            .filter(|s| s["family"] == family)
+            .map(|s| {
+                (
+                    s["omega_rpm"].as_f64().unwrap(),
+                    s["multiple"].as_f64().unwrap(),
+                )
+            })
+            .collect()
+    };
+    for family in ["torsional", "axial"] {
+        let found = of(family);
+        assert!(!found.is_empty(), "{family}: {speeds:?}");
+        assert!(found.iter().all(|&(_, k)| k == 3.0), "{family}: {found:?}");
+    }
+    // The first torsional mode at 3×: f = 3 Ω / 60 at 33.73 rpm, f = 1.6866 Hz.
+    let first = of("torsional")[0].0;
+    assert!((first - 33.73).abs() < 0.05, "{first}");
+    assert!(of("bending").iter().any(|&(_, k)| k == 1.0), "{speeds:?}");
+}

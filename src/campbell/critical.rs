@@ -1,6 +1,16 @@
 //! Critical speeds: the spin rates Ω_c where a mode's frequency meets an excitation at k times
-//! the rotation frequency, f(Ω_c) = k Ω_c / 2π (k = 1, and the bit's multiple), and the margin of
-//! an operating Ω from the nearest of them.
+//! the rotation frequency, f(Ω_c) = k Ω_c / 2π, and the margin of an operating Ω from the nearest
+//! of them.
+//!
+//! Which excitations drive which modes ([`multiples_for`], issue 33 item 3): a bending (lateral)
+//! mode is driven at 1× (mass imbalance, a bent or sagging pipe turning, the whirl of the spinning
+//! string; Jansen 1991, Spanos et al. 2003) and at the bit's multiple k (a tri-cone bit's three
+//! cones, a PDC bit's blades: the cutting structure modulates the side force k times a
+//! revolution). An axial or torsional mode is driven by the bit's WOB and torque, which the
+//! cutting structure modulates k times a revolution (bit-bounce of a tri-cone bit at 3×; blade
+//! passing); nothing in a drillstring drives them at 1× (stick-slip is self-excited, not a
+//! resonance), so they are met against k× only. Counting them on 1× made the margin 0 at every Ω
+//! of a 2 km string, where torsional and axial modes lie densely along the 1× line.
 //!
 //! On the Campbell grid, g(Ω) = f(Ω) − k Ω/2π changes sign between two spin rates where a curve
 //! crosses the line; the crossing is then refined on the eigenvalue itself: g is evaluated by a
@@ -108,17 +118,18 @@ pub fn refine_root(
     (lo * ghi - hi * glo) / (ghi - glo)
 }
 
-/// The critical speeds of the diagram's curves against the lines k Ω/2π of `multiples`,
-/// refined on `sys` (see the module documentation), by increasing Ω.
+/// The critical speeds of the diagram's curves against the excitation lines k Ω/2π that drive
+/// each curve's family ([`multiples_for`] of the bit's `multiple`), refined on `sys` (see the
+/// module documentation), by increasing Ω.
 pub fn crossings(
     sys: &LinearSystem,
     diagram: &CampbellDiagram,
-    multiples: &[f64],
+    multiple: f64,
 ) -> Result<Vec<CriticalSpeed>, CampbellError> {
     let mut out = Vec::new();
     let om = &diagram.omegas;
     for (c, curve) in diagram.curves.iter().enumerate() {
-        for &k in multiples {
+        for k in multiples_for(curve.family, multiple) {
             let g: Vec<f64> = (0..om.len())
                 .map(|i| diagram.freq_hz(c, i) - k * om[i] / TAU)
                 .collect();
@@ -212,7 +223,7 @@ impl MarginTable {
         let (lo, hi) = (margin_window(range[0])[0], margin_window(range[1])[1]);
         let grid = geometric_grid(lo, hi, SEARCH_RATIO);
         let diagram = CampbellDiagram::sweep(sys, &grid, |_| {})?;
-        let speeds = crossings(sys, &diagram, &multiples(multiple))?;
+        let speeds = crossings(sys, &diagram, multiple)?;
         Ok(MarginTable { range, speeds })
     }
 
@@ -224,7 +235,20 @@ impl MarginTable {
     }
 }
 
-/// The excitation lines: 1× and `multiple`× (once when the multiple is 1).
+/// The rule of [`multiples_for`], in the evaluation cache's key: 2 since axial and torsional
+/// modes are met against the bit's multiple only (1: every family against 1× and k×).
+pub const CRITICAL_SPEED_RULE: u32 = 2;
+
+/// The excitation lines that drive a mode of `family` (module doc): bending 1× and `multiple`×,
+/// axial and torsional `multiple`× only.
+pub fn multiples_for(family: ModeFamily, multiple: f64) -> Vec<f64> {
+    match family {
+        ModeFamily::Bending => multiples(multiple),
+        ModeFamily::Axial | ModeFamily::Torsional => vec![multiple],
+    }
+}
+
+/// The excitation lines of the diagram: 1× and `multiple`× (once when the multiple is 1).
 pub fn multiples(multiple: f64) -> Vec<f64> {
     if multiple == 1.0 {
         vec![1.0]
@@ -302,5 +326,9 @@ mod tests {
         assert!((grid[0] - 1.0).abs() < 1e-15 && (grid.last().unwrap() - 10.0).abs() < 1e-12);
         assert_eq!(multiples(1.0), vec![1.0]);
         assert_eq!(multiples(3.0), vec![1.0, 3.0]);
+        assert_eq!(multiples_for(ModeFamily::Bending, 3.0), vec![1.0, 3.0]);
+        assert_eq!(multiples_for(ModeFamily::Torsional, 3.0), vec![3.0]);
+        assert_eq!(multiples_for(ModeFamily::Axial, 4.0), vec![4.0]);
+        assert_eq!(multiples_for(ModeFamily::Axial, 1.0), vec![1.0]);
     }
 }

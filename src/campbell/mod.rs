@@ -11,7 +11,8 @@
 //! spin. Its eigenvalues at each Ω ([`spectrum`]) are labelled axial, torsional or bending and,
 //! for bending, forward or backward whirl; a sweep over Ω follows each mode by its shape
 //! ([`diagram`]); critical speeds are where a mode's frequency meets 1× and k× the rotation
-//! frequency, refined on the eigenvalue ([`critical`]).
+//! frequency (bending modes; axial and torsional modes against k× only), refined on the
+//! eigenvalue ([`critical`]).
 //!
 //! The classical references for gyroscopic rotors and their Campbell diagrams are Genta,
 //! *Dynamics of Rotating Systems* (Springer, 2005) and Lalanne & Ferraris, *Rotordynamics
@@ -29,8 +30,9 @@ mod linear;
 mod spectrum;
 
 pub use critical::{
-    CriticalSpeed, MARGIN_CAP, MarginTable, REFINE_TOLERANCE, SEARCH_RATIO, crossings,
-    geometric_grid, margin, margin_window, multiples, refine_root, sign_changes,
+    CRITICAL_SPEED_RULE, CriticalSpeed, MARGIN_CAP, MarginTable, REFINE_TOLERANCE, SEARCH_RATIO,
+    crossings, geometric_grid, margin, margin_window, multiples, multiples_for, refine_root,
+    sign_changes,
 };
 pub use diagram::{CampbellDiagram, Curve};
 pub use linear::{LinearSystem, Linearisation, RestingState};

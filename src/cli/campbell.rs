@@ -5,8 +5,7 @@
 //! ([`crate::campbell`]): `campbell.json`, `campbell.svg` and a table.
 
 use crate::campbell::{
-    CampbellDiagram, LinearSystem, Linearisation, MarginTable, ModeFamily, crossings,
-    margin_window, multiples,
+    CampbellDiagram, LinearSystem, Linearisation, MarginTable, ModeFamily, crossings, margin_window,
 };
 use crate::problem::{Dimension, Problem};
 use crate::report::{self, CampbellJson, CampbellModeJson, CampbellPlot, CampbellPointJson};
@@ -150,7 +149,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
     let diagram = CampbellDiagram::sweep(&sys, &omegas, |_| bar.inc(1))
         .with_context(|| format!("Campbell diagram of {}", args.problem.display()))?;
     bar.set_message("critical speeds");
-    let speeds = crossings(&sys, &diagram, &multiples(k))?;
+    let speeds = crossings(&sys, &diagram, k)?;
     // The margin of the operating point: from the diagram's critical speeds when its range
     // holds [Ω/1.5, 2Ω], else by the metric's own search (`critical_speed_margin`).
     let op = problem.operating_point.omega;

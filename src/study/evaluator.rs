@@ -93,6 +93,9 @@ struct CanonicalModel<'a> {
     uncertain: Vec<(&'a str, Distribution)>,
     /// `[campbell]`: the excitation multiple of `critical_speed_margin`.
     campbell: &'a crate::model::CampbellSettings,
+    /// Which excitations `critical_speed_margin` meets each family with
+    /// ([`crate::campbell::CRITICAL_SPEED_RULE`]).
+    critical_speed_rule: u32,
 }
 
 /// [`stable_hash`] of the canonical serialisation of everything that determines a simulation's
@@ -116,6 +119,7 @@ pub fn model_hash(problem: &Problem) -> u64 {
             .map(|u| (u.key.name(), u.law))
             .collect(),
         campbell: &problem.campbell,
+        critical_speed_rule: crate::campbell::CRITICAL_SPEED_RULE,
     };
     let bytes = serde_json::to_vec(&canonical).expect("the model serialises");
     stable_hash(&bytes)
