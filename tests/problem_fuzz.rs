@@ -20,7 +20,11 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 18] = [
+const SHIPPED: [(&str, &str); 19] = [
+    (
+        "problems/bench/seed_study_driller.toml",
+        include_str!("../problems/bench/seed_study_driller.toml"),
+    ),
     (
         "problems/regression/slim_pipe_hook_load.toml",
         include_str!("../problems/regression/slim_pipe_hook_load.toml"),

@@ -97,10 +97,11 @@ pub fn held_by_mismatch(
     declared: &[crate::problem::study::ActiveConstraint],
     constraints: &crate::problem::study::Constraints,
     best: &crate::study::PointEvaluation,
+    evaluated: &[crate::study::PointEvaluation],
 ) -> Option<String> {
     use std::collections::BTreeSet;
     let declared: BTreeSet<String> = declared.iter().map(|a| a.name(constraints.kind)).collect();
-    let held: BTreeSet<String> = crate::solve::activity(constraints, best)
+    let held: BTreeSet<String> = crate::solve::activity(constraints, best, evaluated)
         .into_iter()
         .filter(|a| a.at_limit)
         .map(|a| a.name)
@@ -182,7 +183,7 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
                     );
                     if let (Some(declared), Some(k)) = (&expect.active, &problem.study.constraints)
                     {
-                        match held_by_mismatch(declared, k, &b) {
+                        match held_by_mismatch(declared, k, &b, &outcome.evaluations) {
                             Some(why) => {
                                 pass = false;
                                 detail = format!("{detail}; {why}");
@@ -255,14 +256,14 @@ mod tests {
         );
         let chance = ActiveConstraint::Chance("fatigue_damage_per_h".into());
         let both = [ActiveConstraint::OmegaMin, chance.clone()];
-        assert_eq!(super::held_by_mismatch(&both, &c, &p), None);
-        let why = super::held_by_mismatch(&[chance], &c, &p).unwrap();
+        assert_eq!(super::held_by_mismatch(&both, &c, &p, &[]), None);
+        let why = super::held_by_mismatch(&[chance], &c, &p, &[]).unwrap();
         assert!(
             why.contains("held by chance.fatigue_damage_per_h, omega.min")
                 && why.contains("declares chance.fatigue_damage_per_h"),
             "{why}"
         );
-        let why = super::held_by_mismatch(&[], &c, &p).unwrap();
+        let why = super::held_by_mismatch(&[], &c, &p, &[]).unwrap();
         assert!(why.ends_with("declares none"), "{why}");
     }
 

@@ -157,7 +157,7 @@ fn print_summary(
     };
     let held_by = || {
         if let (Some(b), Some(k)) = (&outcome.best, &problem.study.constraints) {
-            study::print_held_by(k, b);
+            study::print_held_by(k, b, &outcome.evaluations);
         }
         if let Some(b) = &outcome.best {
             for w in crate::solve::warnings(b, &problem.study.metrics_named()) {

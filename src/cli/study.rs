@@ -255,8 +255,12 @@ pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str) {
 /// What holds `best` (`solve`'s optimum): the study's constraints at their limit
 /// ([`crate::solve::activity`]), each with its margin, or that none does; and the rig's limits
 /// that commanded an autodriller most of the window (simulator limits, not the study's).
-pub fn print_held_by(constraints: &crate::problem::study::Constraints, best: &PointEvaluation) {
-    let activity = crate::solve::activity(constraints, best);
+pub fn print_held_by(
+    constraints: &crate::problem::study::Constraints,
+    best: &PointEvaluation,
+    evaluated: &[PointEvaluation],
+) {
+    let activity = crate::solve::activity(constraints, best, evaluated);
     let held: Vec<String> = activity
         .iter()
         .filter(|a| a.at_limit)

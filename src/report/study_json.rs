@@ -243,11 +243,11 @@ pub struct ConstraintsJson {
 impl ConstraintsJson {
     /// The constraints with their values at `best`; a linear constraint is active within 1e-3
     /// of its scale.
-    pub fn at(c: &Constraints, best: &PointEvaluation) -> Self {
+    pub fn at(c: &Constraints, best: &PointEvaluation, evaluated: &[PointEvaluation]) -> Self {
         let scale = |l: &LinearConstraint| {
             (l.omega * c.omega[1]).abs() + (l.set_point * c.set_point[1]).abs() + l.upper.abs()
         };
-        let activity = crate::solve::activity(c, best);
+        let activity = crate::solve::activity(c, best, evaluated);
         let feed = c.kind == crate::model::SetPoint::Feed;
         let s = best.op().set_point(c.kind);
         ConstraintsJson {
@@ -350,7 +350,7 @@ impl<'a> SolutionJson<'a> {
                 study
                     .constraints
                     .as_ref()
-                    .map(|c| ConstraintsJson::at(c, b))
+                    .map(|c| ConstraintsJson::at(c, b, &outcome.evaluations))
             }),
             explore: (outcome.confirmation.as_ref()).map(|c| super::ExploreJson::of(&c.explore)),
             confirmation: (outcome.confirmation.as_ref()).map(super::ConfirmationJson::of),

@@ -8,8 +8,12 @@
 //!   unit norm, [`Scaling::feasible_set`]) is within [`BOX_TOLERANCE`];
 //! - a chance constraint P(m > T) ≤ p, when the samples' (1 − p) quantile q of m (the value that
 //!   decides the constraint: P(m > T) ≤ p ⇔ q ≤ T, up to the samples' resolution) lies within
-//!   [`CHANCE_TOLERANCE`] of T, relative to max(|T|, the metric's floor). Its margin (T − q) /
-//!   max(|T|, floor) is positive on the safe side.
+//!   [`CHANCE_TOLERANCE`] of T, relative to max(|T|, the metric's floor), or when the study
+//!   evaluated a point within [`NEIGHBOURHOOD`] of the unit box that scores higher and fails this
+//!   constraint (the constraint is what keeps the score from rising there: a metric that is zero
+//!   at its edge, such as the growth rate of a stability edge, moves by more than its floor across
+//!   the optimizer's last step). Its margin (T − q) / max(|T|, floor) is positive on the safe
+//!   side.
 //!
 //! The tolerances are those of the optimizers' resolution, not of the physics: a trust region stops
 //! within its minimum radius (0.25-2 % of the box) of the edge it meets, and across that distance
@@ -28,6 +32,9 @@ pub const BOX_TOLERANCE: f64 = 0.005;
 /// Relative distance of a chance constraint's deciding quantile to its threshold within which it
 /// is at its limit.
 pub const CHANCE_TOLERANCE: f64 = 0.1;
+/// Unit-box distance within which a better point that fails a chance constraint shows the
+/// constraint holding the optimum: 5 % of the box (a trust region's last steps are 0.2-2 %).
+pub const NEIGHBOURHOOD: f64 = 0.05;
 
 /// One constraint at a point.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -48,8 +55,13 @@ pub struct Activity {
 }
 
 /// Every constraint of `c` at the evaluated point `p` (bounds, then linear, then chance, in the
-/// file's order). A chance constraint whose metric no sample has is left out.
-pub fn activity(c: &Constraints, p: &PointEvaluation) -> Vec<Activity> {
+/// file's order), with the study's other `evaluated` points as evidence for the chance
+/// constraints (module doc). A chance constraint whose metric no sample has is left out.
+pub fn activity(
+    c: &Constraints,
+    p: &PointEvaluation,
+    evaluated: &[PointEvaluation],
+) -> Vec<Activity> {
     let scaling = Scaling::of(c);
     let op = p.op();
     let x = scaling.to_unit(op);
@@ -126,12 +138,21 @@ pub fn activity(c: &Constraints, p: &PointEvaluation) -> Vec<Activity> {
             .map_or(0.0, |(_, floor)| floor);
         let scale = ch.threshold.abs().max(floor).max(f64::MIN_POSITIVE);
         let margin = (ch.threshold - q) / scale;
+        let score = p.objective.unwrap_or(f64::NEG_INFINITY);
+        let blocked = evaluated.iter().any(|e| {
+            let y = scaling.to_unit(e.op());
+            e.objective.is_some_and(|s| s > score)
+                && (y[0] - x[0]).hypot(y[1] - x[1]) <= NEIGHBOURHOOD
+                && e.chance
+                    .iter()
+                    .any(|v| v.metric == ch.metric && !v.satisfied)
+        });
         out.push(Activity {
             name: format!("chance.{}", ch.metric),
             value: q,
             limit: ch.threshold,
             margin,
-            at_limit: margin.abs() <= CHANCE_TOLERANCE,
+            at_limit: margin.abs() <= CHANCE_TOLERANCE || blocked,
         });
     }
     out
@@ -283,7 +304,7 @@ pub(crate) mod tests {
             }],
         };
         let held = |p: &PointEvaluation| -> Vec<String> {
-            activity(&c, p)
+            activity(&c, p, &[])
                 .into_iter()
                 .filter(|a| a.at_limit)
                 .map(|a| a.name)
@@ -295,8 +316,8 @@ pub(crate) mod tests {
             OperatingPoint::hook_load(rpm(60.0), 60e3),
             &[0.01, 0.03, 0.04, 0.2],
         );
-        assert!(held(&inside).is_empty(), "{:?}", activity(&c, &inside));
-        let a = activity(&c, &inside);
+        assert!(held(&inside).is_empty(), "{:?}", activity(&c, &inside, &[]));
+        let a = activity(&c, &inside, &[]);
         let chance = a
             .iter()
             .find(|a| a.name == "chance.fatigue_damage_per_h")
@@ -314,8 +335,33 @@ pub(crate) mod tests {
             corner_held,
             ["linear", "chance.fatigue_damage_per_h"],
             "{:?}",
-            activity(&c, &corner)
+            activity(&c, &corner, &[])
         );
+        // 20 % from its threshold, but a point 1 % of the box away scores higher and fails it:
+        // the constraint is what stops the score; a failing point 10 % away, or one that scores
+        // lower, is no such evidence.
+        let neighbour = |rpm_: f64, score: f64| {
+            let mut e = point(OperatingPoint::hook_load(rpm(rpm_), 60e3), &[0.1]);
+            e.objective = Some(score);
+            e.chance = vec![crate::study::ChanceValue {
+                metric: "fatigue_damage_per_h".into(),
+                threshold: 0.05,
+                probability: 1.0,
+                max_probability: 0.25,
+                satisfied: false,
+            }];
+            e
+        };
+        let with = |e: PointEvaluation| {
+            activity(&c, &inside, &[e])
+                .into_iter()
+                .find(|a| a.name == "chance.fatigue_damage_per_h")
+                .unwrap()
+                .at_limit
+        };
+        assert!(with(neighbour(61.2, 2.0)));
+        assert!(!with(neighbour(72.0, 2.0)));
+        assert!(!with(neighbour(61.2, 0.5)));
         let top = point(OperatingPoint::hook_load(rpm(60.0), 90e3), &[0.0]);
         assert_eq!(held(&top), ["wob.max"]);
         let slow = point(OperatingPoint::hook_load(rpm(30.0), 60e3), &[0.0]);
