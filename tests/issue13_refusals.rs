@@ -124,7 +124,7 @@ fn an_unknown_key_of_the_bit_table_lists_every_accepted_key() {
         &text,
         "model.wall.stiffnes",
         &[
-            "accepts law, friction_law, slip_smoothing and the parameters",
+            "accepts law, friction_law, slip_smoothing, stiffness_per and the parameters",
             "stiffness",
         ],
     );

@@ -127,13 +127,14 @@ impl LinearSystem {
                 max_indentation_m: 0.0,
                 iterations,
             };
-            for node in 0..model.nodes() {
+            let factors = string.wall_node_factors(model.elements());
+            for (node, &factor) in factors.iter().enumerate() {
                 let (iv, iw) = (Dof::V.at(node), Dof::W.at(node));
                 // At rest: no slip, so no friction, whatever its law.
                 let c = wall_contact(
                     string.wall.law(),
                     string.wall_friction,
-                    crate::sim::WallGeometry::of(string),
+                    crate::sim::WallGeometry::of(string).at_node(factor),
                     crate::sim::NodeMotion {
                         position: [q_full[iv], q_full[iw]],
                         ..Default::default()

@@ -28,4 +28,4 @@ pub use top::{
     TopDrive, WOB_RANGE, autodriller_acceleration,
 };
 pub use torque_drag::SoftString;
-pub use wall::{NormalForce, WallContact, WallContactLaw, WallFriction};
+pub use wall::{NormalForce, WallContact, WallContactLaw, WallFriction, WallStiffnessPer};

@@ -73,6 +73,12 @@ pub struct Drillstring {
     /// How the wall's friction acts on a node in contact (`[model.wall] friction_law`): Coulomb
     /// on the slip of the contact point (MODEL.md §11.2, the default) or the paper's torque.
     pub wall_friction: super::WallFriction,
+    /// How the wall law's stiffness and damping are read (`[model.wall] stiffness_per`, MODEL.md
+    /// §11.3): per metre of string (the default) or per node (the paper's). Left out of the
+    /// serialised model per node, so that the model hash of a file that states the paper's
+    /// reading is unchanged.
+    #[serde(skip_serializing_if = "super::WallStiffnessPer::is_node")]
+    pub wall_stiffness_per: super::WallStiffnessPer,
     /// The bit–rock interaction law and its parameters (MODEL.md §6).
     pub bit: super::BitRock,
     /// Polar moment of inertia of the bit (and of whatever turns with it below the last node),
@@ -95,6 +101,12 @@ impl Drillstring {
     /// Radial gap between the pipe and the borehole wall, R_bh − R_ext, m.
     pub fn gap(&self) -> f64 {
         self.borehole_radius - self.pipe.outer_radius
+    }
+
+    /// The factor on the wall law's force at each node 0..=`elements` of a uniform mesh
+    /// ([`super::WallStiffnessPer::node_factors`]): 1 per node, the tributary length (m) per length.
+    pub fn wall_node_factors(&self, elements: usize) -> Vec<f64> {
+        self.wall_stiffness_per.node_factors(elements, self.length)
     }
 
     /// The string with the regularisation widths of its contact and friction laws that act

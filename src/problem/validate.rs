@@ -5,7 +5,7 @@ use super::schema::*;
 use super::{Dimension, Problem, ProblemError};
 use crate::model::bit::BIT_LAWS;
 use crate::model::law::{Chosen, Law, LawEntry, find};
-use crate::model::wall::{WALL_LAWS, WallFriction};
+use crate::model::wall::{WALL_LAWS, WallFriction, WallStiffnessPer};
 use crate::model::{
     BasisSpec, CampbellSettings, Drillstring, FamilySize, Mesh, OperatingPoint, ParameterSpec,
     Pipe, SampleInterval, Simulation, Start, cowper_shear_factor,
@@ -588,12 +588,13 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         wall_section.parameters.remove("friction_law"),
         wall_section.parameters.remove("slip_smoothing"),
     )?;
+    let wall_stiffness_per = wall_stiffness_per(c, wall_section.parameters.remove("stiffness_per"));
     let wall = chosen_law(
         c,
         "model.wall",
         &wall_section,
         WALL_LAWS,
-        &["law", "friction_law", "slip_smoothing"],
+        &["law", "friction_law", "slip_smoothing", "stiffness_per"],
     )?;
     // `inertia` belongs to the bit, not to its law: taken out before the law's table is checked.
     let mut bit_section = m.bit.clone();
@@ -615,10 +616,33 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         gravity,
         wall,
         wall_friction,
+        wall_stiffness_per,
         bit,
         // Set from `[operating_point]` by `problem`.
         top: crate::model::TopDrive::Feed,
     })
+}
+
+/// `[model.wall] stiffness_per` (`"length"`, the default, or `"node"`, the paper's reading; see
+/// [`WallStiffnessPer`]). A bad value is recorded and read as the default, so the rest of the
+/// file is still checked.
+fn wall_stiffness_per(c: &Checker, raw: Option<RawQuantity>) -> WallStiffnessPer {
+    let key = "model.wall.stiffness_per";
+    let allowed = "\"length\" (the law's stiffness and damping per metre of string, each node carrying its tributary length) or \"node\" (per node of the mesh, the paper's reading)";
+    match &raw {
+        None => WallStiffnessPer::default(),
+        Some(RawQuantity::Text(t)) => WallStiffnessPer::from_name(t.trim()).unwrap_or_else(|| {
+            c.record(key, format!("must be {allowed}, got \"{}\"", t.trim()));
+            WallStiffnessPer::default()
+        }),
+        Some(RawQuantity::Number(x)) => {
+            c.record(
+                key,
+                format!("must be a string, {allowed}, got the number {x}"),
+            );
+            WallStiffnessPer::default()
+        }
+    }
 }
 
 /// `[model.wall] friction_law` (`"coulomb"`, the default, or `"paper"`) and the Coulomb law's

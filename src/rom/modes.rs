@@ -377,6 +377,8 @@ pub(super) struct Rest<'a> {
     geometric: SymmetricSparse,
     law: &'a dyn WallContactLaw,
     gap: f64,
+    /// The wall law's factor at each node ([`Drillstring::wall_node_factors`]).
+    factors: Vec<f64>,
 }
 
 impl<'a> Rest<'a> {
@@ -386,6 +388,7 @@ impl<'a> Rest<'a> {
             geometric: geometric_stiffness(string, elements),
             law: string.wall.law(),
             gap: string.gap(),
+            factors: string.wall_node_factors(elements),
         }
     }
 }
@@ -437,11 +440,16 @@ fn build(
             Family::BendingZ => (Dof::W, &rest.weight[1]),
             Family::Axial | Family::Torsional => return None,
         };
+        let contact: Vec<usize> = (0..block.len())
+            .filter(|&i| Dof::of_index(free[block[i]]) == translation)
+            .collect();
         Some(BlockRest {
             load: block.iter().map(|&r| load[free[r]]).collect(),
-            contact: (0..block.len())
-                .filter(|&i| Dof::of_index(free[block[i]]) == translation)
+            factors: contact
+                .iter()
+                .map(|&i| rest.factors[free[block[i]] / crate::fem::DOF_PER_NODE])
                 .collect(),
+            contact,
             law: rest.law,
             gap: rest.gap,
             geometric: Some(

@@ -41,6 +41,9 @@ pub(super) struct BlockRest<'a> {
     pub load: Vec<f64>,
     /// Block-local indices of the lateral translations (v or w) of the nodes.
     pub contact: Vec<usize>,
+    /// The wall law's factor at each row of `contact` (1 per node, the node's tributary length per
+    /// metre of string: [`crate::model::WallStiffnessPer::node_factor`]).
+    pub factors: Vec<f64>,
     pub law: &'a dyn WallContactLaw,
     /// Radial gap, m.
     pub gap: f64,
@@ -63,10 +66,10 @@ impl BlockRest<'_> {
             *gi -= bi;
         }
         let mut stiffness = vec![0.0; self.contact.len()];
-        for (s, &r) in stiffness.iter_mut().zip(&self.contact) {
+        for ((s, &r), &factor) in stiffness.iter_mut().zip(&self.contact).zip(&self.factors) {
             let delta = x[r].abs() - self.gap;
             if delta > 0.0 {
-                let f = self.law.normal(delta, 0.0);
+                let f = self.law.normal(delta, 0.0).scaled(factor);
                 energy += f.energy;
                 g[r] -= f.elastic * x[r].signum();
                 *s = -f.dforce_dindentation;
@@ -203,6 +206,7 @@ mod tests {
         let rest = BlockRest {
             load: vec![-1e-3; n],
             contact: (0..n).collect(),
+            factors: vec![1.0; n],
             law: &wall,
             gap: 1.0,
             geometric: None,
@@ -224,6 +228,7 @@ mod tests {
         let rest = BlockRest {
             load: vec![-2.0],
             contact: vec![0],
+            factors: vec![1.0],
             law: &wall,
             gap: 0.5,
             geometric: None,
@@ -247,6 +252,7 @@ mod tests {
         let rest = BlockRest {
             load: vec![-0.5; n],
             contact: (0..n).collect(),
+            factors: vec![1.0; n],
             law: &wall,
             gap: 2.0,
             geometric: None,

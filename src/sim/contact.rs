@@ -12,24 +12,35 @@ use crate::model::{WallContactLaw, WallFriction};
 /// Where the wall is for a node: the radial gap R_bh − R_ext, the borehole radius R_bh (the
 /// paper's friction lever) and the pipe's outer radius R_ext (the contact point's radius), m;
 /// and the share of the law's friction coefficient that acts (1 in a run; the pre-loaded start
-/// ramps it from 0 to 1, see [`super::preloaded_equilibrium`]).
+/// ramps it from 0 to 1, see [`super::preloaded_equilibrium`]); and the factor on the law's
+/// force at the node, [`crate::model::WallStiffnessPer::node_factor`] (1 per node; the node's
+/// tributary length in m when the law is per metre of string).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WallGeometry {
     pub gap: f64,
     pub borehole_radius: f64,
     pub outer_radius: f64,
     pub friction_scale: f64,
+    pub law_factor: f64,
 }
 
 impl WallGeometry {
-    /// The geometry of a drillstring's (one) section.
+    /// The geometry of a drillstring's (one) section, with a law factor of 1 (set it per node
+    /// with [`Self::at_node`]).
     pub fn of(string: &crate::model::Drillstring) -> Self {
         WallGeometry {
             gap: string.gap(),
             borehole_radius: string.borehole_radius,
             outer_radius: string.pipe.outer_radius,
             friction_scale: 1.0,
+            law_factor: 1.0,
         }
+    }
+
+    /// This geometry with the law factor `law_factor` of a node.
+    #[inline]
+    pub fn at_node(self, law_factor: f64) -> Self {
+        WallGeometry { law_factor, ..self }
     }
 }
 
@@ -106,7 +117,7 @@ pub fn wall_contact(
     }
     let n = [pos[0] / r, pos[1] / r];
     let delta_dot = n[0] * vel[0] + n[1] * vel[1];
-    let f = law.normal(delta, delta_dot);
+    let f = law.normal(delta, delta_dot).scaled(g.law_factor);
     let raw = f.elastic + f.dissipative;
     let clamped = raw > 0.0;
     let normal = raw.min(0.0);
@@ -276,6 +287,7 @@ mod tests {
         borehole_radius: 0.07,
         outer_radius: 0.06,
         friction_scale: 1.0,
+        law_factor: 1.0,
     };
 
     /// The paper's friction (torque only, lever R_bh) at a node.

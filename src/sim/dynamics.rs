@@ -100,6 +100,8 @@ pub struct Dynamics<'m> {
     cut: Cut,
     gap: f64,
     wall: WallGeometry,
+    /// The wall law's factor at each node ([`crate::model::Drillstring::wall_node_factors`]).
+    wall_factors: Vec<f64>,
     q_full: DVector<f64>,
     v_full: DVector<f64>,
     a_full: DVector<f64>,
@@ -151,6 +153,7 @@ impl<'m> Dynamics<'m> {
             cut: Cut::default(),
             gap: model.string.gap(),
             wall: WallGeometry::of(&model.string),
+            wall_factors: model.string.wall_node_factors(model.elements()),
             q_full: DVector::zeros(ndof),
             v_full: DVector::zeros(ndof),
             a_full: DVector::zeros(ndof),
@@ -362,7 +365,8 @@ impl<'m> Dynamics<'m> {
                     axial_velocity: self.v_full[iu],
                     spin: self.v_full[it],
                 };
-                wall_contact(law, friction, self.wall, motion)
+                let wall = self.wall.at_node(self.wall_factors[node]);
+                wall_contact(law, friction, wall, motion)
             } else {
                 NodeContact::default()
             };

@@ -16,10 +16,12 @@
 mod cubic;
 mod friction;
 mod hunt_crossley;
+mod reading;
 
 pub use cubic::Cubic;
 pub use friction::WallFriction;
 pub use hunt_crossley::HuntCrossley;
+pub use reading::WallStiffnessPer;
 
 use super::law::{Chosen, Law, LawEntry, law_kind};
 
@@ -37,6 +39,21 @@ pub struct NormalForce {
     pub dforce_drate: f64,
     /// Elastic energy stored in the wall, −∫₀^δ F_e dδ, J.
     pub energy: f64,
+}
+
+impl NormalForce {
+    /// Every part and derivative multiplied by `factor` (the node's share of a per-length law,
+    /// [`WallStiffnessPer::node_factor`]).
+    #[inline]
+    pub fn scaled(self, factor: f64) -> Self {
+        NormalForce {
+            elastic: factor * self.elastic,
+            dissipative: factor * self.dissipative,
+            dforce_dindentation: factor * self.dforce_dindentation,
+            dforce_drate: factor * self.dforce_drate,
+            energy: factor * self.energy,
+        }
+    }
 }
 
 /// A wall contact law: its name and parameters ([`Law`]), the normal force against the
