@@ -123,7 +123,7 @@ fn dense_inertia_force_and_energy(
 
 fn kernels(c: &mut Criterion) {
     let p = seed();
-    let element = assemble(&p.model, p.mesh.elements).element;
+    let element = *assemble(&p.model, p.mesh.elements).layout.element(0);
     let law = StrainEnergy::of(&p.model);
     let strains = ElementStrains::new(&element);
     let inertia = ElementInertia::new(&element);

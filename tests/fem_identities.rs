@@ -55,7 +55,7 @@ fn global_matrices_are_symmetric() {
 fn total_translational_mass_is_exact() {
     let s = string();
     let g = assemble(&s, 105);
-    let (nodes, h) = (106, g.element.length);
+    let (nodes, h) = (106, g.layout.element(0).length);
     let one = |_: f64| 1.0;
     let mass_along = |m: &Mat<f64>, dof: Dof| {
         let e = field(nodes, h, &[(dof, &one)]);
@@ -91,7 +91,7 @@ fn total_translational_mass_is_exact() {
 #[test]
 fn rigid_body_motions_are_in_the_null_space_of_the_unconstrained_stiffness() {
     let g = assemble(&string(), 40);
-    let (nodes, h) = (41, g.element.length);
+    let (nodes, h) = (41, g.layout.element(0).length);
     let k_scale = max_abs(&g.stiffness);
     let one = |_: f64| 1.0;
     let x = |x: f64| x;

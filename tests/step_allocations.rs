@@ -63,9 +63,11 @@ fn newmark_steps_of_the_drillstring_allocate_nothing() {
     let h = 1e-4;
     // The stress envelope recorded at every accepted step: section loads, fibre stresses of the
     // spinning sections and their rainflow counters (buffers allocated here, once).
-    let elements = model.elements();
-    let stress = SectionStress::new(&model.string, model.string.length / elements as f64);
-    let mut envelope = StressEnvelope::for_string(&model.string, elements, 0.0);
+    let stress = [SectionStress::new(
+        &model.string,
+        model.global.layout.element(0).length,
+    )];
+    let mut envelope = StressEnvelope::for_string(&model.string, &model.global.layout, 0.0);
     let before = ALLOCATIONS.load(Ordering::SeqCst);
     for _ in 0..20 {
         let outcome = nm.attempt(&mut sys, h);

@@ -119,7 +119,6 @@ impl LinearSystem {
             model.add_strain_tangent(&zero, &mut straight, &mut scratch, &mut work, true);
             stiffness += at_rest - straight;
             let string = &model.string;
-            let h = model.global.element.length;
             let mut state = RestingState {
                 contact_nodes: 0,
                 contact_span_m: None,
@@ -127,7 +126,7 @@ impl LinearSystem {
                 max_indentation_m: 0.0,
                 iterations,
             };
-            let factors = string.wall_node_factors(model.elements());
+            let factors = model.global.layout.wall_factors(string.wall_stiffness_per);
             for (node, &factor) in factors.iter().enumerate() {
                 let (iv, iw) = (Dof::V.at(node), Dof::W.at(node));
                 // At rest: no slip, so no friction, whatever its law.
@@ -143,7 +142,7 @@ impl LinearSystem {
                 if !c.active {
                     continue;
                 }
-                let x = h * node as f64;
+                let x = model.global.node_x(node);
                 state.contact_nodes += 1;
                 state.contact_span_m = Some(state.contact_span_m.map_or([x, x], |s| [s[0], x]));
                 state.wall_force_n += c.normal.abs();

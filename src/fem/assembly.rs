@@ -1,7 +1,7 @@
-//! Global assembly of the element matrices on a uniform mesh of N elements.
+//! Global assembly of the element matrices over the mesh's elements ([`ElementLayout`]).
 
-use super::{BeamElement, DOF_PER_NODE, ELEMENT_DOF, Lateral};
-use crate::model::{Drillstring, Section};
+use super::{DOF_PER_NODE, ELEMENT_DOF, ElementLayout, ElementMatrix, ElementVector, Lateral};
+use crate::model::Drillstring;
 use faer::{Col, Mat};
 
 /// Global linear operators of the unconstrained mesh, 6(N+1) DOF, dense.
@@ -15,8 +15,8 @@ pub struct GlobalMatrices {
     pub stiffness: Mat<f64>,
     /// Gravity load vector, Eq. (15), N and N·m.
     pub gravity: Col<f64>,
-    /// The element used on every span (uniform mesh), length L/N.
-    pub element: BeamElement,
+    /// The mesh: each element's length and section, the nodes' positions.
+    pub layout: ElementLayout,
     /// Number of elements N.
     pub elements: usize,
 }
@@ -29,22 +29,37 @@ impl GlobalMatrices {
 
     /// x-coordinate of node `i`, m.
     pub fn node_x(&self, i: usize) -> f64 {
-        i as f64 * self.element.length
+        self.layout.node_x(i)
     }
 }
 
-/// Assemble M, M_pipe, K and the gravity load for `elements` equal elements along the string.
+/// The element matrices of each kind of `layout`: mass, pipe mass, stiffness and gravity load.
+type KindMatrices = (ElementMatrix, ElementMatrix, ElementMatrix, ElementVector);
+
+/// Assemble M, M_pipe, K and the gravity load over the elements of `string`'s mesh of
+/// `elements` elements ([`ElementLayout::of`]).
 pub fn assemble(string: &Drillstring, elements: usize) -> GlobalMatrices {
-    assert!(elements > 0, "a mesh needs at least one element");
-    let element = BeamElement::new(string.length / elements as f64, Section::of(string));
+    let layout = ElementLayout::of(string, elements);
     let n = DOF_PER_NODE * (elements + 1);
-    let (me, mpe, ke) = (element.mass(), element.pipe_mass(), element.stiffness());
-    let fe = element.gravity_load(string.gravity);
+    let kinds: Vec<KindMatrices> = layout
+        .kinds()
+        .iter()
+        .map(|k| {
+            let element = &k.element;
+            (
+                element.mass(),
+                element.pipe_mass(),
+                element.stiffness(),
+                element.gravity_load(string.gravity),
+            )
+        })
+        .collect();
     let mut mass = Mat::zeros(n, n);
     let mut pipe_mass = Mat::zeros(n, n);
     let mut stiffness = Mat::zeros(n, n);
     let mut gravity = Col::zeros(n);
     for e in 0..elements {
+        let (me, mpe, ke, fe) = &kinds[layout.kind(e)];
         let base = DOF_PER_NODE * e;
         for i in 0..ELEMENT_DOF {
             gravity[base + i] += fe[i];
@@ -63,20 +78,22 @@ pub fn assemble(string: &Drillstring, elements: usize) -> GlobalMatrices {
         pipe_mass,
         stiffness,
         gravity,
-        element,
+        layout,
         elements,
     }
 }
 
 /// The consistent load of the string's buoyed weight acting along −`axis`, on the full
-/// 6(N+1) DOF of `elements` equal elements ([`BeamElement::weight_load`]); along −z it equals
-/// [`GlobalMatrices::gravity`]. N and N·m.
+/// 6(N+1) DOF of the mesh of `elements` elements ([`super::BeamElement::weight_load`]); along
+/// −z it equals [`GlobalMatrices::gravity`]. N and N·m.
 pub fn weight_load(string: &Drillstring, elements: usize, axis: Lateral) -> Vec<f64> {
-    let element = BeamElement::new(string.length / elements as f64, Section::of(string));
-    let fe = element.weight_load(string.gravity, axis);
+    let layout = ElementLayout::of(string, elements);
+    let kinds: Vec<ElementVector> = (layout.kinds().iter())
+        .map(|k| k.element.weight_load(string.gravity, axis))
+        .collect();
     let mut load = vec![0.0; DOF_PER_NODE * (elements + 1)];
     for e in 0..elements {
-        for (i, f) in fe.iter().enumerate() {
+        for (i, f) in kinds[layout.kind(e)].iter().enumerate() {
             load[DOF_PER_NODE * e + i] += f;
         }
     }

@@ -7,10 +7,10 @@
 //! modal solve are read off the pattern).
 
 use super::{
-    BeamElement, DOF_PER_NODE, Dof, ELEMENT_DOF, ElementMatrix, ElementStrains, ElementVector,
-    StrainEnergy,
+    BeamElement, DOF_PER_NODE, Dof, ELEMENT_DOF, ElementLayout, ElementMatrix, ElementStrains,
+    ElementVector,
 };
-use crate::model::{Drillstring, Section};
+use crate::model::Drillstring;
 
 /// A symmetric sparse matrix in compressed-column form, both triangles stored, rows sorted in
 /// each column.
@@ -148,16 +148,18 @@ pub struct SparseGlobal {
 /// Assemble M and K for `elements` equal elements along the string, in sparse form: the same
 /// values as [`super::assemble`] (bitwise), in O(N) memory.
 pub fn assemble_sparse(string: &Drillstring, elements: usize) -> SparseGlobal {
-    assert!(elements > 0, "a mesh needs at least one element");
-    let element = BeamElement::new(string.length / elements as f64, Section::of(string));
+    let layout = ElementLayout::of(string, elements);
     let bit_spin = Dof::ThetaX.at(elements);
+    let of_kinds = |f: fn(&BeamElement) -> ElementMatrix| -> Vec<ElementMatrix> {
+        layout.kinds().iter().map(|k| f(&k.element)).collect()
+    };
     SparseGlobal {
         mass: assemble_band(
-            elements,
-            &element.mass(),
+            &layout,
+            &of_kinds(BeamElement::mass),
             Some((bit_spin, string.bit_inertia)),
         ),
-        stiffness: assemble_band(elements, &element.stiffness(), None),
+        stiffness: assemble_band(&layout, &of_kinds(BeamElement::stiffness), None),
         elements,
     }
 }
@@ -171,31 +173,37 @@ pub fn assemble_sparse(string: &Drillstring, elements: usize) -> SparseGlobal {
 /// by a central difference in a uniform axial strain of ±1e-6, which is exact for the quadratic
 /// dependence of the tangent on the axial strain up to round-off.
 pub fn geometric_stiffness(string: &Drillstring, elements: usize) -> SymmetricSparse {
-    assert!(elements > 0, "a mesh needs at least one element");
-    let h = string.length / elements as f64;
-    let element = BeamElement::new(h, Section::of(string));
-    let strains = ElementStrains::new(&element);
-    let law = StrainEnergy::of(string);
+    let layout = ElementLayout::of(string, elements);
     const STRAIN: f64 = 1e-6;
-    // Node 2's axial DOF (u2) carries the element's axial force N.
-    let stretched = |sign: f64| {
-        let mut d = ElementVector::zeros();
-        d[DOF_PER_NODE + Dof::U as usize] = sign * STRAIN * h;
-        let (f, k) = strains.internal_force_and_tangent(&law, &d);
-        (f[DOF_PER_NODE + Dof::U as usize], k)
-    };
-    let ((tension, k_plus), (compression, k_minus)) = (stretched(1.0), stretched(-1.0));
-    let k_sigma: ElementMatrix = (k_plus - k_minus) / (tension - compression);
-    assemble_band(elements, &k_sigma, None)
+    let k_sigma: Vec<ElementMatrix> = layout
+        .kinds()
+        .iter()
+        .map(|kind| {
+            let h = kind.element.length;
+            let strains = ElementStrains::new(&kind.element);
+            // Node 2's axial DOF (u2) carries the element's axial force N.
+            let stretched = |sign: f64| {
+                let mut d = ElementVector::zeros();
+                d[DOF_PER_NODE + Dof::U as usize] = sign * STRAIN * h;
+                let (f, k) = strains.internal_force_and_tangent(&kind.strain_law, &d);
+                (f[DOF_PER_NODE + Dof::U as usize], k)
+            };
+            let ((tension, k_plus), (compression, k_minus)) = (stretched(1.0), stretched(-1.0));
+            (k_plus - k_minus) / (tension - compression)
+        })
+        .collect();
+    assemble_band(&layout, &k_sigma, None)
 }
 
-/// Sum one element matrix over `elements` equal elements into a banded symmetric matrix (a node
-/// couples with its neighbours only), plus an optional value on one diagonal entry.
+/// Sum the element matrices of `layout` (`kinds[k]` for the elements of kind k) into a banded
+/// symmetric matrix (a node couples with its neighbours only), plus an optional value on one
+/// diagonal entry.
 fn assemble_band(
-    elements: usize,
-    element_matrix: &ElementMatrix,
+    layout: &ElementLayout,
+    kinds: &[ElementMatrix],
     diagonal: Option<(usize, f64)>,
 ) -> SymmetricSparse {
+    let elements = layout.elements();
     let n = DOF_PER_NODE * (elements + 1);
     // Column j may be non-zero on the DOFs of nodes node(j) − 1 ..= node(j) + 1: a band of
     // 3 × 6 rows starting at `first(j)`.
@@ -203,6 +211,7 @@ fn assemble_band(
     let first = |j: usize| DOF_PER_NODE * (j / DOF_PER_NODE).saturating_sub(1);
     let mut band = vec![[0.0; BAND]; n];
     for e in 0..elements {
+        let element_matrix = &kinds[layout.kind(e)];
         let base = DOF_PER_NODE * e;
         for i in 0..ELEMENT_DOF {
             for j in 0..ELEMENT_DOF {
@@ -295,7 +304,7 @@ mod tests {
             mu = (x.transpose() * &g * &y)[(0, 0)] / (x.transpose() * &g * &x)[(0, 0)];
             x = &y * (1.0 / y.norm_l2());
         }
-        let section = Section::of(&p.model);
+        let section = crate::model::Section::of(&p.model);
         let euler = std::f64::consts::PI.powi(2) * section.ei / p.model.length.powi(2);
         let engesser = euler / (1.0 + euler / section.shear_rigidity);
         assert!(

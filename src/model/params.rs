@@ -103,12 +103,6 @@ impl Drillstring {
         self.borehole_radius - self.pipe.outer_radius
     }
 
-    /// The factor on the wall law's force at each node 0..=`elements` of a uniform mesh
-    /// ([`super::WallStiffnessPer::node_factors`]): 1 per node, the tributary length (m) per length.
-    pub fn wall_node_factors(&self, elements: usize) -> Vec<f64> {
-        self.wall_stiffness_per.node_factors(elements, self.length)
-    }
-
     /// The string with the regularisation widths of its contact and friction laws that act
     /// divided by `divisor`, and their keys (empty: nothing to refine). The widths are
     /// numerics, not physics: each smooths a set-valued law (a sign, a contact that switches on,

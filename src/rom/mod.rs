@@ -17,5 +17,5 @@ pub use lanczos::{lanczos_applies, sparse_generalized_eigen};
 pub use modes::{BasisCounts, BasisError, Family, ModalBasis, Mode, ModeKind};
 pub use operator::Operator;
 pub use pencil::LANCZOS_MIN_BLOCK;
-pub use reduced::ReducedModel;
+pub use reduced::{ElementKernel, ReducedModel};
 pub use sparse::SparseBasis;

@@ -377,7 +377,7 @@ pub(super) struct Rest<'a> {
     geometric: SymmetricSparse,
     law: &'a dyn WallContactLaw,
     gap: f64,
-    /// The wall law's factor at each node ([`Drillstring::wall_node_factors`]).
+    /// The wall law's factor at each node ([`crate::fem::ElementLayout::wall_factors`]).
     factors: Vec<f64>,
 }
 
@@ -388,7 +388,8 @@ impl<'a> Rest<'a> {
             geometric: geometric_stiffness(string, elements),
             law: string.wall.law(),
             gap: string.gap(),
-            factors: string.wall_node_factors(elements),
+            factors: crate::fem::ElementLayout::of(string, elements)
+                .wall_factors(string.wall_stiffness_per),
         }
     }
 }

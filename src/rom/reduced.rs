@@ -54,9 +54,18 @@ pub struct ReducedModel {
     pub rigid_self_mass: [f64; 2],
     /// Φᵀ G Φ, the gyroscopic matrix per unit spin rate (skew-symmetric).
     pub gyroscopic: DMatrix<f64>,
+    /// The element kernels of each kind of element of the mesh (`global.layout`'s kinds, in
+    /// their order): see [`Self::kernel`].
+    pub kernels: Vec<ElementKernel>,
+}
+
+/// What the residual evaluates on an element of one kind: its strain-energy law, the strain
+/// operators at its quadrature points and its nonlinear inertia.
+#[derive(Debug, Clone)]
+pub struct ElementKernel {
     pub strain_law: StrainEnergy,
-    pub element_strains: ElementStrains,
-    pub element_inertia: ElementInertia,
+    pub strains: ElementStrains,
+    pub inertia: ElementInertia,
 }
 
 fn to_na(m: &faer::Mat<f64>) -> DMatrix<f64> {
@@ -173,15 +182,20 @@ impl ReducedModel {
         ];
         let rigid_self_damping = [eu.dot(&(&c * &eu)), et.dot(&(&c * &et))];
         let rigid_self_mass = [eu.dot(&(&mass * &eu)), et.dot(&(&mass * &et))];
-        let element_inertia = ElementInertia::new(&global.element);
-        let g_e = element_inertia.gyroscopic();
+        let kernels: Vec<ElementKernel> = (global.layout.kinds().iter())
+            .map(|kind| ElementKernel {
+                strain_law: kind.strain_law,
+                strains: ElementStrains::new(&kind.element),
+                inertia: ElementInertia::new(&kind.element),
+            })
+            .collect();
+        let g_kinds: Vec<_> = kernels.iter().map(|k| k.inertia.gyroscopic()).collect();
         let mut gyroscopic = DMatrix::zeros(modes, modes);
         for e in 0..elements {
+            let g_e = &g_kinds[global.layout.kind(e)];
             let phi_e = phi.rows(6 * e, 12);
             gyroscopic += phi_e.transpose() * (g_e * phi_e);
         }
-        let strain_law = StrainEnergy::of(string);
-        let element_strains = ElementStrains::new(&global.element);
         let Operators {
             mass: reduced_mass,
             stiffness,
@@ -207,10 +221,14 @@ impl ReducedModel {
             rigid_self_damping,
             rigid_self_mass,
             gyroscopic,
-            strain_law,
-            element_strains,
-            element_inertia,
+            kernels,
         }
+    }
+
+    /// The kernels of element `e`.
+    #[inline]
+    pub fn kernel(&self, e: usize) -> &ElementKernel {
+        &self.kernels[self.global.layout.kind(e)]
     }
 
     /// Whether the coordinates are the free DOFs themselves (no reduction).
@@ -250,12 +268,13 @@ impl ReducedModel {
         let rows = scratch.nrows();
         for e in 0..self.elements() {
             let d = crate::fem::ElementVector::from_fn(|i, _| q_full[6 * e + i]);
+            let kernel = self.kernel(e);
             let k = if exact {
-                self.element_strains
-                    .internal_force_and_tangent(&self.strain_law, &d)
+                (kernel.strains)
+                    .internal_force_and_tangent(&kernel.strain_law, &d)
                     .1
             } else {
-                self.element_strains.tangent_fast(&self.strain_law, &d)
+                kernel.strains.tangent_fast(&kernel.strain_law, &d)
             };
             // scratch[6e.., j] += K_e[.., c] Φ[6e + c, j] over the non-zeros of Φ's rows.
             let data = scratch.as_mut_slice();

@@ -42,7 +42,7 @@ pub(super) struct BlockRest<'a> {
     /// Block-local indices of the lateral translations (v or w) of the nodes.
     pub contact: Vec<usize>,
     /// The wall law's factor at each row of `contact` (1 per node, the node's tributary length per
-    /// metre of string: [`crate::model::WallStiffnessPer::node_factor`]).
+    /// metre of string: [`crate::model::WallStiffnessPer::factor`]).
     pub factors: Vec<f64>,
     pub law: &'a dyn WallContactLaw,
     /// Radial gap, m.

@@ -13,7 +13,7 @@ use crate::model::{WallContactLaw, WallFriction};
 /// paper's friction lever) and the pipe's outer radius R_ext (the contact point's radius), m;
 /// and the share of the law's friction coefficient that acts (1 in a run; the pre-loaded start
 /// ramps it from 0 to 1, see [`super::preloaded_equilibrium`]); and the factor on the law's
-/// force at the node, [`crate::model::WallStiffnessPer::node_factor`] (1 per node; the node's
+/// force at the node, [`crate::model::WallStiffnessPer::factor`] (1 per node; the node's
 /// tributary length in m when the law is per metre of string).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WallGeometry {

@@ -100,7 +100,7 @@ pub struct Dynamics<'m> {
     cut: Cut,
     gap: f64,
     wall: WallGeometry,
-    /// The wall law's factor at each node ([`crate::model::Drillstring::wall_node_factors`]).
+    /// The wall law's factor at each node ([`crate::fem::ElementLayout::wall_factors`]).
     wall_factors: Vec<f64>,
     q_full: DVector<f64>,
     v_full: DVector<f64>,
@@ -153,7 +153,10 @@ impl<'m> Dynamics<'m> {
             cut: Cut::default(),
             gap: model.string.gap(),
             wall: WallGeometry::of(&model.string),
-            wall_factors: model.string.wall_node_factors(model.elements()),
+            wall_factors: model
+                .global
+                .layout
+                .wall_factors(model.string.wall_stiffness_per),
             q_full: DVector::zeros(ndof),
             v_full: DVector::zeros(ndof),
             a_full: DVector::zeros(ndof),
@@ -335,10 +338,9 @@ impl<'m> Dynamics<'m> {
                 Self::element_state(&self.v_full, e),
                 Self::element_state(&self.a_full, e),
             );
-            let (f_strain, u) = m
-                .element_strains
-                .internal_force_and_energy(&m.strain_law, &d);
-            let (f_inertia, t) = m.element_inertia.force_and_energy(&d, &v, &a);
+            let kernel = m.kernel(e);
+            let (f_strain, u) = (kernel.strains).internal_force_and_energy(&kernel.strain_law, &d);
+            let (f_inertia, t) = kernel.inertia.force_and_energy(&d, &v, &a);
             strain += u;
             kinetic += t;
             let f = f_strain + f_inertia;
@@ -557,10 +559,7 @@ impl<'m> Dynamics<'m> {
     }
 
     pub fn radial_at(&self, x: f64) -> f64 {
-        let h = self.model.global.element.length;
-        let s = (x / h).clamp(0.0, self.model.elements() as f64);
-        let i = (s.floor() as usize).min(self.model.elements() - 1);
-        let f = s - i as f64;
+        let (i, f) = self.model.global.layout.locate(x);
         let r = |n: usize| self.q_full[Dof::V.at(n)].hypot(self.q_full[Dof::W.at(n)]);
         (1.0 - f) * r(i) + f * r(i + 1)
     }

@@ -7,7 +7,7 @@
 
 use super::fatigue::{FATIGUE_FIBRES, SectionFatigue};
 use crate::fatigue::SnCurve;
-use crate::fem::{DOF_PER_NODE, SectionStress};
+use crate::fem::{DOF_PER_NODE, ElementLayout, SectionStress};
 use crate::model::{BucklingLoads, Drillstring};
 use serde::Serialize;
 
@@ -52,15 +52,27 @@ pub struct StressEnvelope {
     last_time: Option<f64>,
     #[serde(skip)]
     fatigue: Option<SectionFatigue>,
+    /// Per element, the index of its [`SectionStress`] in the slice [`Self::record`] is given.
+    #[serde(skip)]
+    kind_of: Vec<usize>,
 }
 
 impl StressEnvelope {
     /// An empty envelope of `elements` elements of length `length`, recording from time `from`,
     /// without fatigue tracking and buckling loads (see [`Self::for_string`]).
     pub fn new(elements: usize, length: f64, from: f64) -> Self {
+        let midpoints: Vec<f64> = (0..elements).map(|e| (e as f64 + 0.5) * length).collect();
+        Self::at(midpoints, vec![0; elements], from)
+    }
+
+    /// An empty envelope of the elements whose midpoints are at `midpoints` (m) and whose
+    /// [`SectionStress`] is `kinds[e]` of the slice [`Self::record`] is given.
+    fn at(midpoints: Vec<f64>, kinds: Vec<usize>, from: f64) -> Self {
+        let elements = midpoints.len();
         let zeros = vec![0.0; elements];
         StressEnvelope {
-            position_m: (0..elements).map(|e| (e as f64 + 0.5) * length).collect(),
+            kind_of: kinds,
+            position_m: midpoints,
             max_von_mises_pa: zeros.clone(),
             mean_von_mises_pa: zeros.clone(),
             max_compression_n: zeros.clone(),
@@ -75,10 +87,16 @@ impl StressEnvelope {
         }
     }
 
-    /// An empty envelope of `string` cut into `elements` elements, recording from time `from`,
-    /// with the fatigue damage on the pipe's S-N curve and its buckling loads.
-    pub fn for_string(string: &Drillstring, elements: usize, from: f64) -> Self {
-        let mut envelope = Self::new(elements, string.length / elements as f64, from);
+    /// An empty envelope of `string` on the mesh `layout`, recording from time `from`, with
+    /// the fatigue damage on the pipe's S-N curve and its buckling loads. [`Self::record`] takes
+    /// one [`SectionStress`] per kind of element of `layout`.
+    pub fn for_string(string: &Drillstring, layout: &ElementLayout, from: f64) -> Self {
+        let elements = layout.elements();
+        let mut envelope = Self::at(
+            layout.midpoints().to_vec(),
+            layout.kinds_of_elements().to_vec(),
+            from,
+        );
         envelope.buckling = Some(BucklingLoads::of(string));
         envelope.sn_curve = Some(string.pipe.fatigue.clone());
         envelope.fatigue_fibres = FATIGUE_FIBRES;
@@ -90,7 +108,9 @@ impl StressEnvelope {
     /// rigid spin angle is `spin` (Ω t, rad: the section's absolute rotation is the spin plus
     /// its elastic θx). The mean is weighted by the step that ends at `t` (right Riemann sum on
     /// the accepted steps).
-    pub fn record(&mut self, t: f64, q_full: &[f64], spin: f64, stress: &SectionStress) {
+    /// `stresses` holds the [`SectionStress`] of each kind of element (one for an envelope of
+    /// [`Self::new`]).
+    pub fn record(&mut self, t: f64, q_full: &[f64], spin: f64, stresses: &[SectionStress]) {
         if t < self.from_s {
             return;
         }
@@ -98,6 +118,7 @@ impl StressEnvelope {
         self.last_time = Some(t);
         self.duration_s += h;
         for e in 0..self.position_m.len() {
+            let stress = &stresses[self.kind_of[e]];
             let d = &q_full[DOF_PER_NODE * e..DOF_PER_NODE * (e + 2)];
             let strains = stress.strains(d);
             let l = stress.loads_of(&strains);

@@ -141,11 +141,17 @@ mod tests {
     ) -> f64 {
         string.pipe.fatigue = curve;
         let stress = SectionStress::new(string, string.length);
-        let mut envelope = StressEnvelope::for_string(string, 1, 0.0);
+        let mut envelope =
+            StressEnvelope::for_string(string, &crate::fem::ElementLayout::of(string, 1), 0.0);
         let dt = 1.0 / per_rev as f64;
         for k in 0..=revolutions * per_rev {
             let t = k as f64 * dt;
-            envelope.record(t, d, spin_rate * std::f64::consts::TAU * t, &stress);
+            envelope.record(
+                t,
+                d,
+                spin_rate * std::f64::consts::TAU * t,
+                std::slice::from_ref(&stress),
+            );
         }
         envelope.finish();
         envelope.fatigue_damage_per_h[0] * envelope.duration_s / 3600.0

@@ -614,7 +614,7 @@ struct Recorder<S> {
     work: (f64, f64, f64),
     gap: f64,
     envelope: StressEnvelope,
-    stress: SectionStress,
+    stress: Vec<SectionStress>,
     /// Radial displacement at each probe of the current row, m.
     probe_radial: Vec<f64>,
 }
@@ -939,7 +939,6 @@ pub fn simulate_into<S: Sink>(
         min_dt: f64::INFINITY,
         ..Default::default()
     };
-    let element_length = model.string.length / model.elements() as f64;
     let mut rec = Recorder {
         sink,
         separated: vec![false; model.nodes()],
@@ -950,10 +949,12 @@ pub fn simulate_into<S: Sink>(
         gap: model.string.gap(),
         envelope: StressEnvelope::for_string(
             &model.string,
-            model.elements(),
+            &model.global.layout,
             settings.envelope_from,
         ),
-        stress: SectionStress::new(&model.string, element_length),
+        stress: (model.global.layout.kinds().iter())
+            .map(|kind| SectionStress::new(&model.string, kind.element.length))
+            .collect(),
     };
     let preloaded = matches!(initial, InitialState::Preloaded);
     let free = model.string.top.is_free();

@@ -196,8 +196,8 @@ pub fn simply_supported(string: &drillopt::model::Drillstring, elements: usize) 
     let free = bc.free_dofs();
     let dof = global.dof();
     let mut g_full = DMatrix::zeros(dof, dof);
-    let g_e = ElementInertia::new(&global.element).gyroscopic();
     for e in 0..n {
+        let g_e = ElementInertia::new(global.layout.element(e)).gyroscopic();
         for i in 0..12 {
             for j in 0..12 {
                 g_full[(6 * e + i, 6 * e + j)] += g_e[(i, j)];

@@ -43,7 +43,7 @@ pub struct NormalForce {
 
 impl NormalForce {
     /// Every part and derivative multiplied by `factor` (the node's share of a per-length law,
-    /// [`WallStiffnessPer::node_factor`]).
+    /// [`WallStiffnessPer::factor`]).
     #[inline]
     pub fn scaled(self, factor: f64) -> Self {
         NormalForce {

@@ -57,29 +57,15 @@ impl WallStiffnessPer {
         *self == WallStiffnessPer::Node
     }
 
-    /// The factor on the law's force at node `node` (0 at the top drive, `elements` at the bit)
-    /// of a uniform mesh of `elements` elements over `length` m: 1 per node (dimensionless), the
-    /// node's tributary length in m per length (h at interior nodes, h/2 at the ends, h =
-    /// `length`/`elements`).
-    pub fn node_factor(self, node: usize, elements: usize, length: f64) -> f64 {
+    /// The factor on the law's force at a node that stands for `tributary_length` m of string
+    /// (half of each element it joins: [`crate::fem::ElementLayout::tributary_length`]): 1 per
+    /// node (dimensionless), the tributary length in m per length.
+    #[inline]
+    pub fn factor(self, tributary_length: f64) -> f64 {
         match self {
             WallStiffnessPer::Node => 1.0,
-            WallStiffnessPer::Length => {
-                let h = length / elements as f64;
-                if node == 0 || node == elements {
-                    0.5 * h
-                } else {
-                    h
-                }
-            }
+            WallStiffnessPer::Length => tributary_length,
         }
-    }
-
-    /// [`Self::node_factor`] of every node 0..=`elements`.
-    pub fn node_factors(self, elements: usize, length: f64) -> Vec<f64> {
-        (0..=elements)
-            .map(|node| self.node_factor(node, elements, length))
-            .collect()
     }
 }
 
@@ -88,19 +74,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_tributary_lengths_sum_to_the_string() {
-        for elements in [1, 2, 7, 105] {
-            let total: f64 = WallStiffnessPer::Length
-                .node_factors(elements, 35.0)
-                .iter()
-                .sum();
-            approx::assert_relative_eq!(total, 35.0, max_relative = 1e-13);
-        }
-        let node = WallStiffnessPer::Node.node_factors(105, 35.0);
-        assert!(node.len() == 106 && node.iter().all(|&f| f == 1.0));
+    fn per_length_a_node_carries_its_tributary_length_and_k_over_h_is_the_per_node_wall() {
+        assert_eq!(WallStiffnessPer::Node.factor(0.25), 1.0);
+        assert_eq!(WallStiffnessPer::Length.factor(0.25), 0.25);
         // An interior node of the seed's mesh stands for h = 1/3 m: k' = k/h carries k.
         approx::assert_relative_eq!(
-            3e10 * WallStiffnessPer::Length.node_factor(52, 105, 35.0),
+            3e10 * WallStiffnessPer::Length.factor(35.0 / 105.0),
             1e10,
             max_relative = 1e-15
         );
