@@ -126,14 +126,14 @@ impl LinearSystem {
                 max_indentation_m: 0.0,
                 iterations,
             };
-            let factors = model.global.layout.wall_factors(string.wall_stiffness_per);
-            for (node, &factor) in factors.iter().enumerate() {
+            let walls = crate::sim::WallGeometry::per_node(string, &model.global.layout);
+            for (node, &wall) in walls.iter().enumerate() {
                 let (iv, iw) = (Dof::V.at(node), Dof::W.at(node));
                 // At rest: no slip, so no friction, whatever its law.
                 let c = wall_contact(
                     string.wall.law(),
                     string.wall_friction,
-                    crate::sim::WallGeometry::of(string).at_node(factor),
+                    wall,
                     crate::sim::NodeMotion {
                         position: [q_full[iv], q_full[iw]],
                         ..Default::default()

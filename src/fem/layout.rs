@@ -18,6 +18,10 @@ pub struct ElementKind {
     pub element: BeamElement,
     /// The section's strain energy per unit length (constitutive and section data).
     pub strain_law: StrainEnergy,
+    /// The index of its section in [`Drillstring::section_strings`] (0 for a string of one).
+    pub section: usize,
+    /// The section's outer radius R_ext, m (where it touches the wall).
+    pub outer_radius: f64,
 }
 
 /// The elements of a mesh, top drive to bit.
@@ -37,18 +41,67 @@ impl ElementLayout {
     ///
     /// # Panics
     /// If `elements` is 0 (problem validation asks for at least one).
+    ///
+    /// A string of sections ([`Drillstring::section_strings`]) has one kind per section, each
+    /// section cut into equal elements: the `elements` are shared out so that the element
+    /// lengths of the sections are as even as they can be (one element at least per section;
+    /// [`share_out`]). No element straddles a section boundary.
+    ///
+    /// # Panics
+    /// If `elements` is 0 or below the number of sections (problem validation refuses both).
     pub fn of(string: &Drillstring, elements: usize) -> Self {
         assert!(elements > 0, "a mesh needs at least one element");
-        let h = string.length / elements as f64;
-        let kind = ElementKind {
-            element: BeamElement::new(h, Section::of(string)),
-            strain_law: StrainEnergy::of(string),
+        let sections = string.section_strings();
+        if let [only] = sections.as_slice() {
+            let h = string.length / elements as f64;
+            let kind = ElementKind {
+                element: BeamElement::new(h, Section::of(only)),
+                strain_law: StrainEnergy::of(only),
+                section: 0,
+                outer_radius: only.pipe.outer_radius,
+            };
+            return ElementLayout {
+                kinds: vec![kind],
+                kind_of: vec![0; elements],
+                node_x: (0..=elements).map(|i| i as f64 * h).collect(),
+                midpoint_x: (0..elements).map(|e| (e as f64 + 0.5) * h).collect(),
+            };
+        }
+        let lengths: Vec<f64> = sections.iter().map(|s| s.length).collect();
+        let counts = share_out(elements, &lengths);
+        let mut layout = ElementLayout {
+            kinds: Vec::with_capacity(sections.len()),
+            kind_of: Vec::with_capacity(elements),
+            node_x: vec![0.0],
+            midpoint_x: Vec::with_capacity(elements),
         };
-        ElementLayout {
-            kinds: vec![kind],
-            kind_of: vec![0; elements],
-            node_x: (0..=elements).map(|i| i as f64 * h).collect(),
-            midpoint_x: (0..elements).map(|e| (e as f64 + 0.5) * h).collect(),
+        let mut start = 0.0;
+        for (k, (section, &n)) in sections.iter().zip(&counts).enumerate() {
+            let h = section.length / n as f64;
+            layout.kinds.push(ElementKind {
+                element: BeamElement::new(h, Section::of(section)),
+                strain_law: StrainEnergy::of(section),
+                section: k,
+                outer_radius: section.pipe.outer_radius,
+            });
+            for j in 0..n {
+                layout.kind_of.push(k);
+                layout.midpoint_x.push(start + (j as f64 + 0.5) * h);
+                layout.node_x.push(start + (j + 1) as f64 * h);
+            }
+            start += section.length;
+        }
+        layout
+    }
+
+    /// The outer radius at node `i`, m: the larger of the elements it joins (a node at a
+    /// section boundary touches the wall with the larger pipe).
+    pub fn node_outer_radius(&self, i: usize) -> f64 {
+        let r = |e: usize| self.kinds[self.kind_of[e]].outer_radius;
+        match i {
+            0 => r(0),
+            i if i == self.elements() => r(i - 1),
+            i => r(i - 1).max(r(i)),
         }
     }
 
@@ -122,6 +175,14 @@ impl ElementLayout {
         0.5 * (before + after)
     }
 
+    /// The radial gap R_bh − R_ext at every node, m, R_ext the node's outer radius
+    /// ([`Self::node_outer_radius`]).
+    pub fn node_gaps(&self, borehole_radius: f64) -> Vec<f64> {
+        (0..self.nodes())
+            .map(|i| borehole_radius - self.node_outer_radius(i))
+            .collect()
+    }
+
     /// The factor on the wall law's force at every node, read `per` ([`WallStiffnessPer::factor`]
     /// of each node's tributary length).
     pub fn wall_factors(&self, per: WallStiffnessPer) -> Vec<f64> {
@@ -153,6 +214,31 @@ impl ElementLayout {
     }
 }
 
+/// `elements` elements shared out over sections of `lengths` (m): at least one each, then one
+/// at a time to the section whose elements are the longest (ties to the first), so that the
+/// element lengths are as even as the section lengths allow.
+///
+/// # Panics
+/// If `elements` is below the number of sections.
+pub fn share_out(elements: usize, lengths: &[f64]) -> Vec<usize> {
+    assert!(
+        elements >= lengths.len(),
+        "{elements} elements cannot cover {} sections",
+        lengths.len()
+    );
+    let mut counts = vec![1; lengths.len()];
+    for _ in lengths.len()..elements {
+        let longest = (0..lengths.len())
+            .max_by(|&a, &b| {
+                let (ha, hb) = (lengths[a] / counts[a] as f64, lengths[b] / counts[b] as f64);
+                ha.total_cmp(&hb).then(b.cmp(&a))
+            })
+            .expect("at least one section");
+        counts[longest] += 1;
+    }
+    counts
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -164,6 +250,17 @@ mod tests {
         ))
         .unwrap()
         .model
+    }
+
+    #[test]
+    fn elements_are_shared_out_by_length() {
+        assert_eq!(share_out(10, &[90.0, 10.0]), vec![9, 1]);
+        assert_eq!(share_out(3, &[1.0, 1.0, 1000.0]), vec![1, 1, 1]);
+        assert_eq!(share_out(6, &[2.0, 1.0]), vec![4, 2]);
+        assert_eq!(
+            share_out(12, &[300.0, 100.0, 5.0]).iter().sum::<usize>(),
+            12
+        );
     }
 
     #[test]

@@ -396,8 +396,9 @@ impl Metrics {
         let max = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::max);
         self.max_von_mises_pa = peak;
         self.max_von_mises_at_m = at;
-        self.von_mises_safety_factor = yield_strength.map_or(f64::NAN, |y| y / peak);
-        self.von_mises_utilization = yield_strength.map_or(f64::NAN, |y| peak / y);
+        let (utilization, safety) = envelope.yield_utilization(yield_strength);
+        self.von_mises_safety_factor = safety;
+        self.von_mises_utilization = utilization;
         self.max_compression_n = max(&envelope.max_compression_n);
         self.max_torque_nm = max(&envelope.max_torque_nm);
         let (rate, worst) = envelope.fatigue_peak().unwrap_or((f64::NAN, f64::NAN));
@@ -406,14 +407,7 @@ impl Metrics {
         self.fatigue_worst_at_m = if rate > 0.0 { worst } else { f64::NAN };
         let (usage, at) = envelope.buckling_peak().unwrap_or((f64::NAN, f64::NAN));
         self.buckling_utilization = usage;
-        let compression = self.max_compression_n.max(0.0);
-        self.helical_buckling_utilization = envelope.buckling.map_or(f64::NAN, |b| {
-            if compression > 0.0 {
-                compression / b.helical
-            } else {
-                0.0
-            }
-        });
+        self.helical_buckling_utilization = envelope.helical_peak().unwrap_or(f64::NAN);
         self.buckling_margin = 1.0 - usage;
         self.buckling_at_m = at;
         self

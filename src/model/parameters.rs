@@ -59,6 +59,19 @@ pub struct StringParameter {
 /// A lower bound that another property of the string sets, and its name for messages.
 type Above = (fn(&Drillstring) -> f64, &'static str);
 
+impl StringParameter {
+    /// Whether this is a property of `[model.pipe]` that a string of sections holds per section
+    /// (its density and Young's modulus): not a parameter of such a string, whose sections
+    /// carry their own.
+    fn per_section(&self, string: &Drillstring) -> bool {
+        !string.sections.is_empty()
+            && matches!(
+                self.spec.key,
+                "model.pipe.density" | "model.pipe.youngs_modulus"
+            )
+    }
+}
+
 impl fmt::Debug for StringParameter {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("StringParameter")
@@ -157,7 +170,10 @@ pub static STRING_PARAMETERS: [StringParameter; 7] = [
         "density ρ_a of the fluid in the annulus (buoyancy: gravity load; confined added mass)",
     ),
     StringParameter {
-        above: Some((|s| s.pipe.outer_radius, "the pipe's outer radius")),
+        above: Some((
+            |s| s.max_outer_radius(),
+            "the pipe's (largest) outer radius",
+        )),
         added_mass: true,
         ..row(
             "model.borehole.radius",
@@ -198,7 +214,10 @@ impl Eq for ParameterKey {}
 impl ParameterKey {
     /// The parameter called `key` in a string with these laws, if it can be varied.
     pub fn resolve(key: &str, string: &Drillstring) -> Option<Self> {
-        if let Some(row) = STRING_PARAMETERS.iter().find(|r| r.spec.key == key) {
+        if let Some(row) = (STRING_PARAMETERS.iter())
+            .filter(|r| !r.per_section(string))
+            .find(|r| r.spec.key == key)
+        {
             return Some(ParameterKey {
                 spec: &row.spec,
                 target: Target::String(row),
@@ -218,7 +237,9 @@ impl ParameterKey {
     /// Every key that can be varied in this string: the string's own, its wall law's, its bit
     /// law's, counts (whole numbers, such as a bit's blades) excepted.
     pub fn available(string: &Drillstring) -> Vec<&'static str> {
-        let fixed = STRING_PARAMETERS.iter().map(|r| &r.spec);
+        let fixed = (STRING_PARAMETERS.iter())
+            .filter(|r| !r.per_section(string))
+            .map(|r| &r.spec);
         let laws = [
             string.wall.law().parameters(),
             string.bit.law().parameters(),

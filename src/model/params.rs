@@ -34,12 +34,32 @@ pub const API_GRADES: [(&str, f64); 4] = [
     ("S-135", 135.0 * 6.894_757_293_168e6),
 ];
 
+/// One section of a string of sections (`[[model.section]]`, MODEL.md §11.5): drill pipe,
+/// heavy-weight pipe, collars or a stabiliser, listed from the top drive down to the bit.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StringSection {
+    /// The section's name, as the file gives it (reports and errors name it).
+    pub name: String,
+    /// Its length along the string, m.
+    pub length: f64,
+    /// Its pipe: sizes, material, yield strength and S-N curve (the keys the section does not
+    /// give are those of `[model.pipe]`).
+    pub pipe: Pipe,
+}
+
 /// The drillstring, borehole and environment.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Drillstring {
     /// Length L from the top drive (x = 0) to the bit (x = L), m.
     pub length: f64,
+    /// The pipe of a string of one section, and the material defaults of the sections.
     pub pipe: Pipe,
+    /// The sections from the top drive down to the bit (`[[model.section]]`); empty: the string
+    /// is one section of `pipe` over `length`. Their lengths add up to `length`. Left out of the
+    /// serialised model when empty, so that the model hash of a file without sections is
+    /// unchanged.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<StringSection>,
     /// Density ρ_f of the drilling fluid inside the pipe, kg/m³: it adds lateral mass ρ_f A_f and
     /// its weight ρ_f A_f g to the string (MODEL.md §3).
     pub fluid_density: f64,
@@ -98,9 +118,53 @@ pub struct Drillstring {
 }
 
 impl Drillstring {
-    /// Radial gap between the pipe and the borehole wall, R_bh − R_ext, m.
+    /// Radial gap between the pipe and the borehole wall, R_bh − R_ext, m; for a string of
+    /// sections the smallest, of the section with the largest outer radius.
     pub fn gap(&self) -> f64 {
-        self.borehole_radius - self.pipe.outer_radius
+        self.borehole_radius - self.max_outer_radius()
+    }
+
+    /// The largest outer radius of the string's pipes, m.
+    pub fn max_outer_radius(&self) -> f64 {
+        if self.sections.is_empty() {
+            return self.pipe.outer_radius;
+        }
+        (self.sections.iter())
+            .map(|s| s.pipe.outer_radius)
+            .fold(0.0, f64::max)
+    }
+
+    /// The string's sections, top drive to bit, each as a string of its own: its pipe and
+    /// length, with this string's hole, fluids, damping, laws and top (and no sections). A
+    /// string without `[[model.section]]` is its own only section. What is a property of one
+    /// section (its [`super::Section`] constants, buckling loads, stresses, impedance) is read
+    /// off these.
+    pub fn section_strings(&self) -> Vec<Drillstring> {
+        if self.sections.is_empty() {
+            return vec![self.clone()];
+        }
+        self.sections
+            .iter()
+            .map(|s| Drillstring {
+                length: s.length,
+                pipe: s.pipe.clone(),
+                sections: Vec::new(),
+                ..self.clone()
+            })
+            .collect()
+    }
+
+    /// The section at the bit, as a string of its own ([`Self::section_strings`]'s last).
+    pub fn bit_section(&self) -> Drillstring {
+        match self.sections.last() {
+            None => self.clone(),
+            Some(s) => Drillstring {
+                length: s.length,
+                pipe: s.pipe.clone(),
+                sections: Vec::new(),
+                ..self.clone()
+            },
+        }
     }
 
     /// The string with the regularisation widths of its contact and friction laws that act

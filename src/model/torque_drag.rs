@@ -72,8 +72,62 @@ pub struct SoftString {
 }
 
 impl SoftString {
-    /// The estimate for `string` at `op` (see the module doc).
+    /// The estimate for `string` at `op` (see the module doc). A string of sections
+    /// ([`Drillstring::section_strings`]) is integrated section by section from the bit up: the
+    /// top loads sum each section's drag and torque over its length, the bit's displacement and
+    /// twist each section's compression and torque over its own EA and κ_t G J; the per-length
+    /// fields and the climbing angle are then the length-weighted means over the sections.
     pub fn steady(string: &Drillstring, op: OperatingPoint) -> Self {
+        if string.sections.is_empty() {
+            return Self::uniform(string, op);
+        }
+        let sections: Vec<(Drillstring, SoftString)> = (string.section_strings().into_iter())
+            .map(|s| {
+                let estimate = Self::uniform(&s, op);
+                (s, estimate)
+            })
+            .collect();
+        let first = sections[0].1;
+        let (mut force, mut torque) = (first.wob, first.tob);
+        let (mut displacement, mut twist) = (0.0, 0.0);
+        let mut mean = [0.0; 6];
+        // From the bit up: `force` and `torque` are the loads at the section's lower end.
+        for (sub, e) in sections.iter().rev() {
+            let (l, sec) = (sub.length, Section::of(sub));
+            displacement -= (force * l + 0.5 * e.drag_per_length * l * l) / sec.ea;
+            twist -= (torque * l + 0.5 * e.torque_per_length * l * l) / sec.torsional_rigidity;
+            force += e.drag_per_length * l;
+            torque += e.torque_per_length * l;
+            let fields = [
+                e.normal_per_length,
+                e.climb_angle,
+                e.drag_per_length,
+                e.torque_per_length,
+                e.friction_drag_per_length,
+                e.friction_torque_per_length,
+            ];
+            for (m, f) in mean.iter_mut().zip(fields) {
+                *m += f * l / string.length;
+            }
+        }
+        SoftString {
+            wob: first.wob,
+            tob: first.tob,
+            normal_per_length: mean[0],
+            climb_angle: mean[1],
+            drag_per_length: mean[2],
+            torque_per_length: mean[3],
+            friction_drag_per_length: mean[4],
+            friction_torque_per_length: mean[5],
+            top_force: force,
+            top_torque: torque,
+            bit_displacement: displacement,
+            bit_twist: twist,
+        }
+    }
+
+    /// The estimate for a string of one section (its `pipe` over its `length`).
+    fn uniform(string: &Drillstring, op: OperatingPoint) -> Self {
         let section = Section::of(string);
         let length = string.length;
         let bit = string.bit.load(op.v0, op.omega);

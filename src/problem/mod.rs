@@ -13,6 +13,7 @@ mod validate;
 mod validate_expect;
 mod validate_explore;
 mod validate_fatigue;
+mod validate_sections;
 mod validate_study;
 mod validate_threshold;
 mod validate_top;

@@ -78,6 +78,29 @@ pub struct ModelSection {
     pub borehole: BoreholeSection,
     pub wall: LawSection,
     pub bit: LawSection,
+    /// `[[model.section]]`: the string's sections, top drive to bit (none: one section of
+    /// `[model.pipe]`).
+    #[serde(default)]
+    pub section: Vec<SectionTable>,
+}
+
+/// One `[[model.section]]`: its name and length, its outer and inner size (radius or
+/// diameter), and material keys that default to `[model.pipe]`'s.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SectionTable {
+    pub name: Option<String>,
+    pub length: Option<RawQuantity>,
+    pub outer_radius: Option<RawQuantity>,
+    pub outer_diameter: Option<RawQuantity>,
+    pub inner_radius: Option<RawQuantity>,
+    pub inner_diameter: Option<RawQuantity>,
+    pub density: Option<RawQuantity>,
+    pub youngs_modulus: Option<RawQuantity>,
+    pub poisson_ratio: Option<RawQuantity>,
+    pub shear_factor: Option<RawQuantity>,
+    pub torsion_factor: Option<RawQuantity>,
+    pub yield_strength: Option<RawQuantity>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -473,6 +473,18 @@ pub(super) fn problem(
     let c = Checker::new(file, shape);
     let model = c.section(drillstring(&c, &raw.model));
     let mesh = c.section(mesh(&c, &raw.mesh));
+    if let (Some(m), Some(mesh)) = (&model, &mesh)
+        && mesh.elements < m.sections.len()
+    {
+        c.record(
+            "mesh.elements",
+            format!(
+                "must be at least the number of [[model.section]] ({}): every section needs an element, got {}",
+                m.sections.len(),
+                mesh.elements
+            ),
+        );
+    }
     let top = c.section(super::validate_top::top(&c, &raw.operating_point));
     let operating_point = c.section(operating_point(&c, &raw.operating_point, top));
     let mut model = model;
@@ -565,16 +577,21 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         None => 0.0,
     };
     let borehole_radius = c.positive("model.borehole.radius", &m.borehole.radius, Length)?;
-    c.check(
-        "model.borehole.radius",
-        borehole_radius,
-        borehole_radius > pipe.outer_radius || pipe.outer_radius.is_nan(),
-        &format!(
-            "greater than model.pipe.outer_radius ({} m): the pipe must fit in the hole",
-            pipe.outer_radius
-        ),
-        Length,
-    )?;
+    let sections =
+        super::validate_sections::sections(c, &m.section, &pipe, length, borehole_radius);
+    // With sections, each section's fit in the hole is checked with the section.
+    if sections.is_empty() {
+        c.check(
+            "model.borehole.radius",
+            borehole_radius,
+            borehole_radius > pipe.outer_radius || pipe.outer_radius.is_nan(),
+            &format!(
+                "greater than model.pipe.outer_radius ({} m): the pipe must fit in the hole",
+                pipe.outer_radius
+            ),
+            Length,
+        )?;
+    }
     let damping = c.non_negative("model.pipe.damping", &m.pipe.damping, Rate)?;
     let stiffness_damping = match &m.pipe.stiffness_damping {
         Some(raw) => c.non_negative("model.pipe.stiffness_damping", raw, Time)?,
@@ -608,6 +625,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         bit_inertia,
         length,
         pipe,
+        sections,
         fluid_density,
         annulus_density,
         borehole_radius,
@@ -807,26 +825,7 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
     )?;
     let yield_strength = match &p.yield_strength {
         None => None,
-        Some(RawQuantity::Text(t)) if t.chars().next().is_some_and(char::is_alphabetic) => {
-            let grade = crate::model::API_GRADES
-                .iter()
-                // "G-105", "g-105" or "G105": case and the dash do not matter.
-                .find(|(name, _)| {
-                    name.replace('-', "")
-                        .eq_ignore_ascii_case(&t.trim().replace('-', ""))
-                });
-            Some(grade.map(|g| g.1).ok_or_else(|| {
-                let names: Vec<&str> = crate::model::API_GRADES.iter().map(|g| g.0).collect();
-                c.fail(
-                    "model.pipe.yield_strength",
-                    format!(
-                        "`{t}` is not an API drill-pipe grade; expected one of {} or a pressure such as \"931 MPa\"",
-                        names.join(", ")
-                    ),
-                )
-            })?)
-        }
-        Some(raw) => Some(c.value("model.pipe.yield_strength", raw, Pressure)?),
+        Some(raw) => yield_strength(c, "model.pipe.yield_strength", raw)?,
     };
     let fatigue = super::validate_fatigue::fatigue(c, p.fatigue.as_ref())?;
     Ok(Pipe {
@@ -839,6 +838,36 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
         torsion_factor,
         yield_strength,
         fatigue,
+    })
+}
+
+/// A minimum yield strength under `key`: an API 5DP grade (`"S-135"`) or a pressure.
+pub(super) fn yield_strength(
+    c: &Checker,
+    key: &str,
+    raw: &RawQuantity,
+) -> Result<Option<f64>, ProblemError> {
+    Ok(match raw {
+        RawQuantity::Text(t) if t.chars().next().is_some_and(char::is_alphabetic) => {
+            let grade = crate::model::API_GRADES
+                .iter()
+                // "G-105", "g-105" or "G105": case and the dash do not matter.
+                .find(|(name, _)| {
+                    name.replace('-', "")
+                        .eq_ignore_ascii_case(&t.trim().replace('-', ""))
+                });
+            Some(grade.map(|g| g.1).ok_or_else(|| {
+                let names: Vec<&str> = crate::model::API_GRADES.iter().map(|g| g.0).collect();
+                c.fail(
+                    key,
+                    format!(
+                        "`{t}` is not an API drill-pipe grade; expected one of {} or a pressure such as \"931 MPa\"",
+                        names.join(", ")
+                    ),
+                )
+            })?)
+        }
+        raw => Some(c.value_as(key, "model.pipe.yield_strength", raw, Dimension::Pressure)),
     })
 }
 

@@ -379,17 +379,20 @@ pub(super) struct Rest<'a> {
     gap: f64,
     /// The wall law's factor at each node ([`crate::fem::ElementLayout::wall_factors`]).
     factors: Vec<f64>,
+    /// The radial gap at each node, m.
+    gaps: Vec<f64>,
 }
 
 impl<'a> Rest<'a> {
     fn of(string: &'a Drillstring, elements: usize) -> Self {
+        let layout = crate::fem::ElementLayout::of(string, elements);
         Rest {
             weight: [Lateral::Y, Lateral::Z].map(|axis| weight_load(string, elements, axis)),
             geometric: geometric_stiffness(string, elements),
             law: string.wall.law(),
             gap: string.gap(),
-            factors: crate::fem::ElementLayout::of(string, elements)
-                .wall_factors(string.wall_stiffness_per),
+            factors: layout.wall_factors(string.wall_stiffness_per),
+            gaps: layout.node_gaps(string.borehole_radius),
         }
     }
 }
@@ -449,6 +452,10 @@ fn build(
             factors: contact
                 .iter()
                 .map(|&i| rest.factors[free[block[i]] / crate::fem::DOF_PER_NODE])
+                .collect(),
+            gaps: contact
+                .iter()
+                .map(|&i| rest.gaps[free[block[i]] / crate::fem::DOF_PER_NODE])
                 .collect(),
             contact,
             law: rest.law,

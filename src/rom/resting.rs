@@ -44,8 +44,11 @@ pub(super) struct BlockRest<'a> {
     /// The wall law's factor at each row of `contact` (1 per node, the node's tributary length per
     /// metre of string: [`crate::model::WallStiffnessPer::factor`]).
     pub factors: Vec<f64>,
+    /// The radial gap at each row of `contact`, m (the node's: a string of sections has its own
+    /// at every section).
+    pub gaps: Vec<f64>,
     pub law: &'a dyn WallContactLaw,
-    /// Radial gap, m.
+    /// The smallest radial gap, m (the scale of the shape's convergence test).
     pub gap: f64,
     /// The block's geometric stiffness K_σ of a unit axial force (for
     /// [`Self::compression_sensitivity`]); `None`: the resting shape alone.
@@ -66,8 +69,9 @@ impl BlockRest<'_> {
             *gi -= bi;
         }
         let mut stiffness = vec![0.0; self.contact.len()];
-        for ((s, &r), &factor) in stiffness.iter_mut().zip(&self.contact).zip(&self.factors) {
-            let delta = x[r].abs() - self.gap;
+        let rows = self.contact.iter().zip(&self.factors).zip(&self.gaps);
+        for (s, ((&r, &factor), &gap)) in stiffness.iter_mut().zip(rows) {
+            let delta = x[r].abs() - gap;
             if delta > 0.0 {
                 let f = self.law.normal(delta, 0.0).scaled(factor);
                 energy += f.energy;
@@ -207,6 +211,7 @@ mod tests {
             load: vec![-1e-3; n],
             contact: (0..n).collect(),
             factors: vec![1.0; n],
+            gaps: vec![1.0; n],
             law: &wall,
             gap: 1.0,
             geometric: None,
@@ -229,6 +234,7 @@ mod tests {
             load: vec![-2.0],
             contact: vec![0],
             factors: vec![1.0],
+            gaps: vec![0.5],
             law: &wall,
             gap: 0.5,
             geometric: None,
@@ -253,6 +259,7 @@ mod tests {
             load: vec![-0.5; n],
             contact: (0..n).collect(),
             factors: vec![1.0; n],
+            gaps: vec![2.0; n],
             law: &wall,
             gap: 2.0,
             geometric: None,

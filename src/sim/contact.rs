@@ -37,6 +37,27 @@ impl WallGeometry {
         }
     }
 
+    /// The geometry of every node of `layout` (a mesh of `string`): the node's outer radius
+    /// ([`crate::fem::ElementLayout::node_outer_radius`]: the larger pipe at a section boundary),
+    /// its gap to the wall and the wall law's factor of its tributary length
+    /// ([`crate::fem::ElementLayout::wall_factors`]). For a string of one section every node has
+    /// [`Self::of`]'s gap and radii.
+    pub fn per_node(
+        string: &crate::model::Drillstring,
+        layout: &crate::fem::ElementLayout,
+    ) -> Vec<Self> {
+        let factors = layout.wall_factors(string.wall_stiffness_per);
+        let gaps = layout.node_gaps(string.borehole_radius);
+        (factors.iter().zip(gaps).enumerate())
+            .map(|(node, (&law_factor, gap))| WallGeometry {
+                gap,
+                outer_radius: layout.node_outer_radius(node),
+                law_factor,
+                ..WallGeometry::of(string)
+            })
+            .collect()
+    }
+
     /// This geometry with the law factor `law_factor` of a node.
     #[inline]
     pub fn at_node(self, law_factor: f64) -> Self {

@@ -98,10 +98,8 @@ pub struct Dynamics<'m> {
     /// solved on the law's quasi-static form), and the cut read at the last residual.
     surface: Option<RockSurface>,
     cut: Cut,
-    gap: f64,
-    wall: WallGeometry,
-    /// The wall law's factor at each node ([`crate::fem::ElementLayout::wall_factors`]).
-    wall_factors: Vec<f64>,
+    /// The wall's geometry at each node ([`WallGeometry::per_node`]).
+    walls: Vec<WallGeometry>,
     q_full: DVector<f64>,
     v_full: DVector<f64>,
     a_full: DVector<f64>,
@@ -151,12 +149,7 @@ impl<'m> Dynamics<'m> {
             evaluated_rigid_position: [f64::NAN; 2],
             surface: None,
             cut: Cut::default(),
-            gap: model.string.gap(),
-            wall: WallGeometry::of(&model.string),
-            wall_factors: model
-                .global
-                .layout
-                .wall_factors(model.string.wall_stiffness_per),
+            walls: WallGeometry::per_node(&model.string, &model.global.layout),
             q_full: DVector::zeros(ndof),
             v_full: DVector::zeros(ndof),
             a_full: DVector::zeros(ndof),
@@ -367,8 +360,7 @@ impl<'m> Dynamics<'m> {
                     axial_velocity: self.v_full[iu],
                     spin: self.v_full[it],
                 };
-                let wall = self.wall.at_node(self.wall_factors[node]);
-                wall_contact(law, friction, wall, motion)
+                wall_contact(law, friction, self.walls[node], motion)
             } else {
                 NodeContact::default()
             };
@@ -416,7 +408,9 @@ impl<'m> Dynamics<'m> {
     /// The share of the wall law's friction coefficient that acts (1 unless changed: the
     /// pre-loaded start ramps it from 0 to 1).
     pub fn set_friction_scale(&mut self, scale: f64) {
-        self.wall.friction_scale = scale;
+        for wall in &mut self.walls {
+            wall.friction_scale = scale;
+        }
         // The cached full-mesh forces belong to the old friction.
         self.evaluated[0].fill(f64::NAN);
     }
@@ -516,7 +510,7 @@ impl<'m> Dynamics<'m> {
         for (node, c) in self.contacts.iter().enumerate() {
             let (v, w) = (self.q_full[Dof::V.at(node)], self.q_full[Dof::W.at(node)]);
             let r = (v * v + w * w).sqrt();
-            obs.max_radial_over_gap = obs.max_radial_over_gap.max(r / self.gap);
+            obs.max_radial_over_gap = obs.max_radial_over_gap.max(r / self.walls[node].gap);
             if c.active {
                 obs.nodes_in_contact += 1;
                 obs.wall_force_total += c.normal.abs();

@@ -55,6 +55,12 @@ pub struct StressEnvelope {
     /// Per element, the index of its [`SectionStress`] in the slice [`Self::record`] is given.
     #[serde(skip)]
     kind_of: Vec<usize>,
+    /// Per kind of element: the buckling loads of its section (empty without buckling loads).
+    #[serde(skip)]
+    buckling_by_kind: Vec<BucklingLoads>,
+    /// Per kind of element: the yield strength of its section's pipe (empty: not known here).
+    #[serde(skip)]
+    yield_by_kind: Vec<Option<f64>>,
 }
 
 impl StressEnvelope {
@@ -90,6 +96,9 @@ impl StressEnvelope {
     /// An empty envelope of `string` on the mesh `layout`, recording from time `from`, with
     /// the fatigue damage on the pipe's S-N curve and its buckling loads. [`Self::record`] takes
     /// one [`SectionStress`] per kind of element of `layout`.
+    ///
+    /// A string of sections has the buckling loads and the yield strength of each section at
+    /// its elements; `buckling` (one set of loads for the whole string) is then `None`.
     pub fn for_string(string: &Drillstring, layout: &ElementLayout, from: f64) -> Self {
         let elements = layout.elements();
         let mut envelope = Self::at(
@@ -97,7 +106,18 @@ impl StressEnvelope {
             layout.kinds_of_elements().to_vec(),
             from,
         );
-        envelope.buckling = Some(BucklingLoads::of(string));
+        let sections = string.section_strings();
+        let of_kinds = |k: &crate::fem::ElementKind| &sections[k.section];
+        envelope.buckling_by_kind = (layout.kinds().iter())
+            .map(|k| BucklingLoads::of(of_kinds(k)))
+            .collect();
+        envelope.yield_by_kind = (layout.kinds().iter())
+            .map(|k| of_kinds(k).pipe.yield_strength)
+            .collect();
+        envelope.buckling = string
+            .sections
+            .is_empty()
+            .then(|| envelope.buckling_by_kind[0]);
         envelope.sn_curve = Some(string.pipe.fatigue.clone());
         envelope.fatigue_fibres = FATIGUE_FIBRES;
         envelope.fatigue = Some(SectionFatigue::new(elements, string.pipe.fatigue.clone()));
@@ -156,15 +176,65 @@ impl StressEnvelope {
                 *rate = f.damage(e) * per_h;
             }
         }
-        if let Some(b) = self.buckling {
-            for (u, &c) in self
-                .buckling_utilization
-                .iter_mut()
+        if let Some(b) = self.buckling
+            && self.buckling_by_kind.is_empty()
+        {
+            // An envelope of `new` given its loads by hand: one set for every element.
+            self.buckling_by_kind = vec![b];
+            self.kind_of.fill(0);
+        }
+        if !self.buckling_by_kind.is_empty() {
+            for (e, (u, &c)) in (self.buckling_utilization.iter_mut())
                 .zip(&self.max_compression_n)
+                .enumerate()
             {
-                *u = b.utilization(c);
+                *u = self.buckling_by_kind[self.kind_of[e]].utilization(c);
             }
         }
+    }
+
+    /// The largest compression over the helical buckling load of its section along the string
+    /// (0 without compression); None without buckling loads or before [`Self::finish`].
+    pub fn helical_peak(&self) -> Option<f64> {
+        // Each element's section's loads, or the one set of an envelope given them by hand.
+        let loads =
+            |e: usize| (self.buckling_by_kind.get(self.kind_of[e]).copied()).or(self.buckling);
+        if self.kind_of.is_empty() {
+            return None;
+        }
+        loads(0)?;
+        let of = |e: usize, &c: &f64| {
+            let c = c.max(0.0);
+            match loads(e) {
+                Some(b) if c > 0.0 => c / b.helical,
+                _ => 0.0,
+            }
+        };
+        Some(
+            (self.max_compression_n.iter().enumerate())
+                .map(|(e, c)| of(e, c))
+                .fold(f64::NAN, f64::max),
+        )
+    }
+
+    /// The von Mises utilization max σ_vM / σ_y and safety factor min σ_y / σ_vM along the
+    /// string, each element against its section's yield strength (`yield_strength` for an
+    /// envelope that does not know its sections'); NaN for both without a yield strength.
+    pub fn yield_utilization(&self, yield_strength: Option<f64>) -> (f64, f64) {
+        let (mut utilization, mut safety) = (f64::NAN, f64::NAN);
+        for (e, &peak) in self.max_von_mises_pa.iter().enumerate() {
+            let y = match self.yield_by_kind.get(self.kind_of[e]) {
+                Some(y) => *y,
+                None => yield_strength,
+            };
+            if let Some(y) = y
+                && peak.is_finite()
+            {
+                utilization = utilization.max(peak / y);
+                safety = safety.min(y / peak);
+            }
+        }
+        (utilization, safety)
     }
 
     /// The largest von Mises stress along the string and where, (Pa, m); None when empty.

@@ -12,7 +12,7 @@
 
 use super::envelope::StressEnvelope;
 use super::series::{Frame, Row, Sink};
-use super::{Dynamics, Effects, FreeTop, NodeContact, Observation, TimeSeries};
+use super::{Dynamics, Effects, FreeTop, NodeContact, Observation, TimeSeries, WallGeometry};
 use crate::fem::Dof;
 use crate::fem::SectionStress;
 use crate::integrate::{
@@ -587,9 +587,14 @@ pub const IMPACT_SPEED: f64 = 0.01;
 /// Count the impacts of one recorded state and update each node's separation flag: a node
 /// that touches the wall after having left it (see [`IMPACT_SEPARATION`]) at a normal speed of
 /// at least [`IMPACT_SPEED`] makes one impact. `first`: the initial state, which counts none.
-fn count_impacts(separated: &mut [bool], contacts: &[NodeContact], gap: f64, first: bool) -> u64 {
+fn count_impacts(
+    separated: &mut [bool],
+    contacts: &[NodeContact],
+    gaps: &[f64],
+    first: bool,
+) -> u64 {
     let mut impacts = 0;
-    for (flag, c) in separated.iter_mut().zip(contacts) {
+    for ((flag, c), &gap) in separated.iter_mut().zip(contacts).zip(gaps) {
         if c.active {
             if *flag && !first && c.approach_speed >= IMPACT_SPEED {
                 impacts += 1;
@@ -612,7 +617,8 @@ struct Recorder<S> {
     /// The previous recorded time (s) and observation, and the cumulative works of the last row, J.
     last: Option<(f64, Observation)>,
     work: (f64, f64, f64),
-    gap: f64,
+    /// The radial gap at each node, m.
+    gaps: Vec<f64>,
     envelope: StressEnvelope,
     stress: Vec<SectionStress>,
     /// Radial displacement at each probe of the current row, m.
@@ -630,7 +636,7 @@ impl<S: Sink> Recorder<S> {
         probes: &[f64],
     ) -> bool {
         let first = self.last.is_none();
-        self.onsets += count_impacts(&mut self.separated, &sys.contacts, self.gap, first);
+        self.onsets += count_impacts(&mut self.separated, &sys.contacts, &self.gaps, first);
         // Trapezoid rule on the powers between the previous and this recorded state.
         let (work_top, work_bit, dissipated) = match &self.last {
             Some((t0, prev)) => {
@@ -946,15 +952,20 @@ pub fn simulate_into<S: Sink>(
         last: None,
         work: (0.0, 0.0, 0.0),
         probe_radial: vec![0.0; settings.probes.len()],
-        gap: model.string.gap(),
+        gaps: (WallGeometry::per_node(&model.string, &model.global.layout).iter())
+            .map(|w| w.gap)
+            .collect(),
         envelope: StressEnvelope::for_string(
             &model.string,
             &model.global.layout,
             settings.envelope_from,
         ),
-        stress: (model.global.layout.kinds().iter())
-            .map(|kind| SectionStress::new(&model.string, kind.element.length))
-            .collect(),
+        stress: {
+            let sections = model.string.section_strings();
+            (model.global.layout.kinds().iter())
+                .map(|kind| SectionStress::new(&sections[kind.section], kind.element.length))
+                .collect()
+        },
     };
     let preloaded = matches!(initial, InitialState::Preloaded);
     let free = model.string.top.is_free();
@@ -1209,7 +1220,7 @@ mod tests {
     /// 1 cm/s or more; chatter across δ = 0 and slow settling count nothing.
     #[test]
     fn impacts_need_a_separation_and_a_fast_touch_down() {
-        let gap = 0.01;
+        let gap = &[0.01; 3];
         let mut separated = vec![false; 3];
         // Initial state: node 0 resting, node 1 lifted, node 2 barely off the wall.
         let start = [touching(0.0), free(-2e-4), free(-1e-6)];

@@ -19,9 +19,10 @@
 
 use crate::model::{Drillstring, OperatingPoint, Section};
 
-/// The characteristic torsional impedance of the string's pipe, √(κ_t G J · ρ J), N·m·s.
+/// The characteristic torsional impedance of the string's pipe at the bit (its last section's),
+/// √(κ_t G J · ρ J), N·m·s.
 pub fn torsional_impedance(string: &Drillstring) -> f64 {
-    let s = Section::of(string);
+    let s = Section::of(&string.bit_section());
     (s.torsional_rigidity * s.polar_inertia).sqrt()
 }
 

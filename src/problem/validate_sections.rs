@@ -1,0 +1,224 @@
+//! `[[model.section]]`: a string of sections (MODEL.md §11.5), top drive to bit.
+//!
+//! Each section names itself and gives its length and its outer and inner size, as a radius or a
+//! diameter (drill-pipe tables give OD and ID); its material keys (`density`,
+//! `youngs_modulus`, `poisson_ratio`, `yield_strength`, `torsion_factor`) default to
+//! `[model.pipe]`'s, its `shear_factor` to Cowper's for its own radii, and every section shares
+//! `[model.pipe.fatigue]`. The lengths must add up to `[model] length`. Every refusal names the
+//! section's key (`model.section[2].outer_diameter`) and the section by name, and all of them are
+//! reported in one pass.
+
+use super::Dimension;
+use super::schema::{RawQuantity, SectionTable};
+use super::validate::{Checker, yield_strength};
+use crate::model::{Pipe, StringSection, cowper_shear_factor};
+use crate::units::show;
+
+/// At most this many sections: far beyond a real string's few (pipe, heavy-weight pipe, jars,
+/// collars, stabilisers, motor).
+pub const MAX_SECTIONS: usize = 200;
+
+/// Relative tolerance on the sum of the section lengths against `[model] length`.
+const LENGTH_TOLERANCE: f64 = 1e-9;
+
+/// The sections of `tables` (empty when the file gives none), each refusal recorded in `c`.
+pub(super) fn sections(
+    c: &Checker,
+    tables: &[SectionTable],
+    pipe: &Pipe,
+    length: f64,
+    borehole_radius: f64,
+) -> Vec<StringSection> {
+    if tables.is_empty() {
+        return Vec::new();
+    }
+    if tables.len() > MAX_SECTIONS {
+        c.record(
+            "model.section",
+            format!("at most {MAX_SECTIONS} sections, got {}", tables.len()),
+        );
+        return Vec::new();
+    }
+    let sections: Vec<StringSection> = (tables.iter().enumerate())
+        .map(|(i, t)| section(c, i, t, pipe, borehole_radius))
+        .collect();
+    for (i, s) in sections.iter().enumerate() {
+        if let Some(j) = sections[..i].iter().position(|o| o.name == s.name) {
+            c.record(
+                &format!("model.section[{i}].name"),
+                format!(
+                    "\"{}\" is also the name of model.section[{j}]: each section needs its own name",
+                    s.name
+                ),
+            );
+        }
+    }
+    let total: f64 = sections.iter().map(|s| s.length).sum();
+    if total.is_finite() && length.is_finite() && (total - length).abs() > LENGTH_TOLERANCE * length
+    {
+        let list: Vec<String> = (sections.iter())
+            .map(|s| format!("{} {} m", s.name, show(s.length)))
+            .collect();
+        c.record(
+            "model.length",
+            format!(
+                "must be the sum of the sections' lengths ({}: {} m), got {} m",
+                list.join(" + "),
+                show(total),
+                show(length)
+            ),
+        );
+    }
+    sections
+}
+
+/// Section `i` of the file, `[model.pipe]` supplying the material keys it does not give.
+fn section(
+    c: &Checker,
+    i: usize,
+    t: &SectionTable,
+    pipe: &Pipe,
+    borehole_radius: f64,
+) -> StringSection {
+    use Dimension::*;
+    let key = |k: &str| format!("model.section[{i}].{k}");
+    let name = match &t.name {
+        Some(n) if !n.trim().is_empty() => n.trim().to_string(),
+        _ => {
+            c.record(
+                &key("name"),
+                "is required: a name for the section (\"drill pipe\", \"collars\", \"stabiliser\")"
+                    .to_string(),
+            );
+            format!("section {i}")
+        }
+    };
+    let of = format!("(section \"{name}\")");
+    // A quantity the section must give, checked against the range of `range_key`.
+    let required = |k: &str, raw: &Option<RawQuantity>, range_key: &str, dim: Dimension| match raw {
+        Some(raw) => c.value_as(&key(k), range_key, raw, dim),
+        None => c.record(&key(k), format!("is required {of}")),
+    };
+    // A size given as a radius or a diameter, exactly one of them.
+    let size = |radius: &Option<RawQuantity>, diameter: &Option<RawQuantity>, which: &str| {
+        let range_key = format!("model.pipe.{which}_radius");
+        match (radius, diameter) {
+            (Some(r), None) => c.value_as(&key(&format!("{which}_radius")), &range_key, r, Length),
+            (None, Some(d)) => {
+                // No range of its own: the radius it halves to is checked below.
+                let v = c.value_as(&key(&format!("{which}_diameter")), "", d, Length);
+                let r = 0.5 * v;
+                match super::limits::range_of(&range_key) {
+                    Some(range) if !r.is_nan() && !range.contains(r) => c.record(
+                        &key(&format!("{which}_diameter")),
+                        format!(
+                            "must be twice a radius {} {of}, got {} m",
+                            range.describe_in("m", 1.0),
+                            show(v)
+                        ),
+                    ),
+                    _ => r,
+                }
+            }
+            (Some(_), Some(_)) => c.record(
+                &key(&format!("{which}_diameter")),
+                format!("give {which}_radius or {which}_diameter, not both {of}"),
+            ),
+            (None, None) => c.record(
+                &key(&format!("{which}_radius")),
+                format!("is required {of}: the {which} size as {which}_radius or {which}_diameter"),
+            ),
+        }
+    };
+    let length = required("length", &t.length, "model.length", Length);
+    if length <= 0.0 {
+        c.record(
+            &key("length"),
+            format!("must be > 0 {of}, got {} m", show(length)),
+        );
+    }
+    let outer_radius = size(&t.outer_radius, &t.outer_diameter, "outer");
+    let inner_radius = size(&t.inner_radius, &t.inner_diameter, "inner");
+    let outer_key = if t.outer_diameter.is_some() {
+        key("outer_diameter")
+    } else {
+        key("outer_radius")
+    };
+    if outer_radius >= borehole_radius {
+        c.record(
+            &outer_key,
+            format!(
+                "the section must fit in the hole {of}: outer radius {} m, borehole radius {} m (a stabiliser nearly fills it)",
+                show(outer_radius),
+                show(borehole_radius)
+            ),
+        );
+    }
+    if inner_radius >= outer_radius {
+        c.record(
+            &outer_key,
+            format!(
+                "must exceed the inner size {of}: outer radius {} m, inner radius {} m",
+                show(outer_radius),
+                show(inner_radius)
+            ),
+        );
+    }
+    let material = |k: &str, raw: &Option<RawQuantity>, default: f64, dim: Dimension| match raw {
+        Some(raw) => c.value_as(&key(k), &format!("model.pipe.{k}"), raw, dim),
+        None => default,
+    };
+    let density = material("density", &t.density, pipe.density, Density);
+    let youngs_modulus = material(
+        "youngs_modulus",
+        &t.youngs_modulus,
+        pipe.youngs_modulus,
+        Pressure,
+    );
+    let poisson_ratio = material(
+        "poisson_ratio",
+        &t.poisson_ratio,
+        pipe.poisson_ratio,
+        Dimensionless,
+    );
+    let cowper = cowper_shear_factor(poisson_ratio, inner_radius, outer_radius);
+    let factor =
+        |k: &str, raw: &Option<RawQuantity>, word: &str, word_value: f64, default| match raw {
+            None => default,
+            Some(RawQuantity::Text(t)) if t.trim() == word => word_value,
+            Some(RawQuantity::Text(t)) => c.record(
+                &key(k),
+                format!("`{t}` is not allowed {of}; expected a number or \"{word}\""),
+            ),
+            Some(raw) => c.value_as(&key(k), &format!("model.pipe.{k}"), raw, Dimensionless),
+        };
+    let shear_factor = factor("shear_factor", &t.shear_factor, "cowper", cowper, cowper);
+    let torsion_factor = factor(
+        "torsion_factor",
+        &t.torsion_factor,
+        "shear",
+        shear_factor,
+        pipe.torsion_factor,
+    );
+    let yield_strength = match &t.yield_strength {
+        None => pipe.yield_strength,
+        Some(raw) => c
+            .section(yield_strength(c, &key("yield_strength"), raw))
+            .flatten(),
+    };
+    StringSection {
+        name,
+        length,
+        pipe: Pipe {
+            density,
+            youngs_modulus,
+            poisson_ratio,
+            inner_radius,
+            outer_radius,
+            shear_factor,
+            torsion_factor,
+            yield_strength,
+            fatigue: pipe.fatigue.clone(),
+        },
+    }
+}
