@@ -319,3 +319,37 @@ fn bad_sections_are_refused_by_section_and_key_in_one_pass() {
     let err = Problem::from_toml(&uncertain, Path::new("b.toml")).unwrap_err();
     assert_eq!(err.key(), Some("uncertain.parameter[0].key"), "{err}");
 }
+
+#[test]
+fn a_graded_mesh_gives_each_section_its_elements_and_verify_doubles_each() {
+    let graded = two_sections(60, 0.3)
+        .replace(
+            "inner_diameter = \"4.778 in\"",
+            "inner_diameter = \"4.778 in\"\nelements = 20",
+        )
+        .replace(
+            "inner_diameter = \"2.8125 in\"",
+            "inner_diameter = \"2.8125 in\"\nelements = 40",
+        );
+    let p = Problem::from_toml(&graded, Path::new("graded.toml")).unwrap();
+    let layout = drillopt::fem::ElementLayout::of(&p.model, p.mesh.elements);
+    assert_eq!(layout.kinds().len(), 2);
+    assert_eq!(layout.element(0).length, 1.5, "30 m in 20 elements");
+    assert_eq!(layout.element(59).length, 0.25, "10 m in 40 elements");
+    approx::assert_relative_eq!(layout.node_x(20), 30.0, max_relative = 1e-12);
+    approx::assert_relative_eq!(layout.node_x(60), 40.0, max_relative = 1e-12);
+    // The refined mesh of `verify` (twice the elements) halves every section's elements.
+    let refined = drillopt::fem::ElementLayout::of(&p.model, 120);
+    assert_eq!(refined.element(0).length, 0.75);
+    assert_eq!(refined.element(119).length, 0.125);
+    // The sum must be [mesh] elements, and either every section gives its count or none.
+    let err = Problem::from_toml(
+        &graded.replace("elements = 60", "elements = 61"),
+        Path::new("g.toml"),
+    )
+    .unwrap_err();
+    assert_eq!(err.key(), Some("mesh.elements"), "{err}");
+    let partial = graded.replace("elements = 20\n", "");
+    let err = Problem::from_toml(&partial, Path::new("g.toml")).unwrap_err();
+    assert_eq!(err.key(), Some("model.section[0].elements"), "{err}");
+}

@@ -67,8 +67,17 @@ impl ElementLayout {
                 midpoint_x: (0..elements).map(|e| (e as f64 + 0.5) * h).collect(),
             };
         }
-        let lengths: Vec<f64> = sections.iter().map(|s| s.length).collect();
-        let counts = share_out(elements, &lengths);
+        // A graded mesh shares the elements in proportion to the sections' own counts (exactly
+        // them when `elements` is their sum, k times them for k times the sum: `verify`'s
+        // refined mesh); otherwise by length.
+        let weights: Vec<f64> = match (string.sections.iter())
+            .map(|s| s.elements)
+            .collect::<Option<Vec<usize>>>()
+        {
+            Some(counts) => counts.iter().map(|&n| n as f64).collect(),
+            None => sections.iter().map(|s| s.length).collect(),
+        };
+        let counts = share_out(elements, &weights);
         let mut layout = ElementLayout {
             kinds: Vec::with_capacity(sections.len()),
             kind_of: Vec::with_capacity(elements),
@@ -214,9 +223,10 @@ impl ElementLayout {
     }
 }
 
-/// `elements` elements shared out over sections of `lengths` (m): at least one each, then one
-/// at a time to the section whose elements are the longest (ties to the first), so that the
-/// element lengths are as even as the section lengths allow.
+/// `elements` elements shared out over sections of `lengths` (m, or any weights): at least one
+/// each, then one at a time to the section whose elements are the longest (ties to the first),
+/// so that the element lengths are as even as the section lengths allow (for weights that are
+/// element counts n_i and `elements` = k Σ n_i: exactly k n_i each).
 ///
 /// # Panics
 /// If `elements` is below the number of sections.
@@ -261,6 +271,10 @@ mod tests {
             share_out(12, &[300.0, 100.0, 5.0]).iter().sum::<usize>(),
             12
         );
+        // Counts as weights: their sum gives them back, twice the sum doubles each.
+        assert_eq!(share_out(13, &[10.0, 2.0, 1.0]), vec![10, 2, 1]);
+        assert_eq!(share_out(26, &[10.0, 2.0, 1.0]), vec![20, 4, 2]);
+        assert_eq!(share_out(39, &[7.0, 5.0, 1.0]), vec![21, 15, 3]);
     }
 
     #[test]

@@ -45,6 +45,11 @@ pub struct StringSection {
     /// Its pipe: sizes, material, yield strength and S-N curve (the keys the section does not
     /// give are those of `[model.pipe]`).
     pub pipe: Pipe,
+    /// Its share of the mesh's elements (`elements`; a graded mesh), or `None`: the elements
+    /// are shared out by length ([`crate::fem::ElementLayout::of`]). Either every section of a
+    /// string gives one or none does. Left out of the serialised model when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub elements: Option<usize>,
 }
 
 /// The drillstring, borehole and environment.

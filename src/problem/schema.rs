@@ -101,6 +101,8 @@ pub struct SectionTable {
     pub shear_factor: Option<RawQuantity>,
     pub torsion_factor: Option<RawQuantity>,
     pub yield_strength: Option<RawQuantity>,
+    /// The section's share of the mesh (a graded mesh).
+    pub elements: Option<i64>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -473,6 +473,23 @@ pub(super) fn problem(
     let c = Checker::new(file, shape);
     let model = c.section(drillstring(&c, &raw.model));
     let mesh = c.section(mesh(&c, &raw.mesh));
+    let graded: Option<usize> = model.as_ref().and_then(|m| {
+        (m.sections.iter())
+            .map(|s| s.elements)
+            .sum::<Option<usize>>()
+            .filter(|_| !m.sections.is_empty())
+    });
+    if let (Some(sum), Some(mesh)) = (graded, &mesh)
+        && mesh.elements != sum
+    {
+        c.record(
+            "mesh.elements",
+            format!(
+                "must be the sum of the sections' elements ({sum}) when they give them, got {}",
+                mesh.elements
+            ),
+        );
+    }
     if let (Some(m), Some(mesh)) = (&model, &mesh)
         && mesh.elements < m.sections.len()
     {
@@ -872,7 +889,7 @@ pub(super) fn yield_strength(
 }
 
 /// Upper bound on the element count: far beyond any useful mesh, it keeps dense algebra bounded.
-const MAX_ELEMENTS: i64 = 2000;
+pub(super) const MAX_ELEMENTS: i64 = 2000;
 
 fn mesh(c: &Checker, m: &MeshSection) -> Result<Mesh, ProblemError> {
     if !(1..=MAX_ELEMENTS).contains(&m.elements) {

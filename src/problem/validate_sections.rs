@@ -53,6 +53,17 @@ pub(super) fn sections(
             );
         }
     }
+    let given = tables.iter().filter(|t| t.elements.is_some()).count();
+    if given > 0 && given < tables.len() {
+        let missing = (tables.iter().position(|t| t.elements.is_none())).unwrap_or(0);
+        c.record(
+            &format!("model.section[{missing}].elements"),
+            format!(
+                "is required once any section gives its elements ({given} of {} do): a graded mesh gives every section's count, or none (then [mesh] elements is shared out by length)",
+                tables.len()
+            ),
+        );
+    }
     let total: f64 = sections.iter().map(|s| s.length).sum();
     if total.is_finite() && length.is_finite() && (total - length).abs() > LENGTH_TOLERANCE * length
     {
@@ -206,9 +217,24 @@ fn section(
             .section(yield_strength(c, &key("yield_strength"), raw))
             .flatten(),
     };
+    let elements = t.elements.and_then(|n| {
+        if (1..=super::validate::MAX_ELEMENTS).contains(&n) {
+            Some(n as usize)
+        } else {
+            c.record(
+                &key("elements"),
+                format!(
+                    "must be a whole number in [1, {}] {of}, got {n}",
+                    super::validate::MAX_ELEMENTS
+                ),
+            );
+            None
+        }
+    });
     StringSection {
         name,
         length,
+        elements,
         pipe: Pipe {
             density,
             youngs_modulus,
