@@ -353,3 +353,40 @@ fn a_graded_mesh_gives_each_section_its_elements_and_verify_doubles_each() {
     let err = Problem::from_toml(&partial, Path::new("g.toml")).unwrap_err();
     assert_eq!(err.key(), Some("model.section[0].elements"), "{err}");
 }
+
+/// A drill-pipe table gives the OD and the weight: API 5DP 5½ in 21.90 lb/ft pipe has a
+/// 4.778 in bore and a plain-end (body) weight of 19.81 lb/ft; from the OD and that weight, with
+/// the steel density API uses (489.5 lb/ft³, 7841 kg/m³), the bore is 4.778 in again.
+#[test]
+fn an_outer_diameter_and_a_linear_weight_give_the_bore() {
+    let text = two_sections(80, 0.3).replace(
+        "inner_diameter = \"4.778 in\"",
+        "linear_weight = \"19.81 lb/ft\"\ndensity = \"7841 kg/m^3\"",
+    );
+    let p = Problem::from_toml(&text, Path::new("w.toml")).unwrap();
+    let pipe = &p.model.sections[0].pipe;
+    let bore_in = 2.0 * pipe.inner_radius / 0.0254;
+    assert!((bore_in - 4.778).abs() < 2e-3, "bore {bore_in} in");
+    // The steel area is the weight over the density, exactly.
+    let area = PI * (pipe.outer_radius.powi(2) - pipe.inner_radius.powi(2));
+    approx::assert_relative_eq!(
+        area * 7841.0,
+        19.81 * 0.453_592_37 / 0.3048,
+        max_relative = 1e-12
+    );
+    // A weight heavier than a solid bar of that OD, a weight beside a bore, and none at all.
+    let heavy = text.replace("19.81 lb/ft", "200 lb/ft");
+    let err = Problem::from_toml(&heavy, Path::new("w.toml")).unwrap_err();
+    assert_eq!(err.key(), Some("model.section[0].linear_weight"), "{err}");
+    assert!(err.to_string().contains("solid bar"), "{err}");
+    let both = text.replace(
+        "linear_weight = \"19.81 lb/ft\"",
+        "linear_weight = \"19.81 lb/ft\"\ninner_diameter = \"4.778 in\"",
+    );
+    let err = Problem::from_toml(&both, Path::new("w.toml")).unwrap_err();
+    assert_eq!(err.key(), Some("model.section[0].linear_weight"), "{err}");
+    let none = text.replace("linear_weight = \"19.81 lb/ft\"\n", "");
+    let err = Problem::from_toml(&none, Path::new("w.toml")).unwrap_err();
+    assert_eq!(err.key(), Some("model.section[0].inner_radius"), "{err}");
+    assert!(err.to_string().contains("linear_weight"), "{err}");
+}

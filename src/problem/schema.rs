@@ -95,6 +95,8 @@ pub struct SectionTable {
     pub outer_diameter: Option<RawQuantity>,
     pub inner_radius: Option<RawQuantity>,
     pub inner_diameter: Option<RawQuantity>,
+    /// The pipe body's mass per length (its plain-end weight), instead of the inner size.
+    pub linear_weight: Option<RawQuantity>,
     pub density: Option<RawQuantity>,
     pub youngs_modulus: Option<RawQuantity>,
     pub poisson_ratio: Option<RawQuantity>,

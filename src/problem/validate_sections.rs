@@ -111,9 +111,10 @@ fn section(
         None => c.record(&key(k), format!("is required {of}")),
     };
     // A size given as a radius or a diameter, exactly one of them.
-    let size = |radius: &Option<RawQuantity>, diameter: &Option<RawQuantity>, which: &str| {
-        let range_key = format!("model.pipe.{which}_radius");
-        match (radius, diameter) {
+    let size =
+        |radius: &Option<RawQuantity>, diameter: &Option<RawQuantity>, which: &str| {
+            let range_key = format!("model.pipe.{which}_radius");
+            match (radius, diameter) {
             (Some(r), None) => c.value_as(&key(&format!("{which}_radius")), &range_key, r, Length),
             (None, Some(d)) => {
                 // No range of its own: the radius it halves to is checked below.
@@ -137,10 +138,13 @@ fn section(
             ),
             (None, None) => c.record(
                 &key(&format!("{which}_radius")),
-                format!("is required {of}: the {which} size as {which}_radius or {which}_diameter"),
+                format!(
+                    "is required {of}: the {which} size as {which}_radius or {which}_diameter{}",
+                    if which == "inner" { ", or the pipe body's linear_weight" } else { "" }
+                ),
             ),
         }
-    };
+        };
     let length = required("length", &t.length, "model.length", Length);
     if length <= 0.0 {
         c.record(
@@ -149,7 +153,6 @@ fn section(
         );
     }
     let outer_radius = size(&t.outer_radius, &t.outer_diameter, "outer");
-    let inner_radius = size(&t.inner_radius, &t.inner_diameter, "inner");
     let outer_key = if t.outer_diameter.is_some() {
         key("outer_diameter")
     } else {
@@ -165,21 +168,41 @@ fn section(
             ),
         );
     }
-    if inner_radius >= outer_radius {
-        c.record(
-            &outer_key,
-            format!(
-                "must exceed the inner size {of}: outer radius {} m, inner radius {} m",
-                show(outer_radius),
-                show(inner_radius)
-            ),
-        );
-    }
     let material = |k: &str, raw: &Option<RawQuantity>, default: f64, dim: Dimension| match raw {
         Some(raw) => c.value_as(&key(k), &format!("model.pipe.{k}"), raw, dim),
         None => default,
     };
     let density = material("density", &t.density, pipe.density, Density);
+    // The inner size, or the linear weight w of the pipe body: its steel area is w/ρ, so
+    // R_int = √(R_ext² − w/(πρ)).
+    let inner_radius = match (&t.linear_weight, &t.inner_radius, &t.inner_diameter) {
+        (None, ..) => size(&t.inner_radius, &t.inner_diameter, "inner"),
+        (Some(w), None, None) => {
+            let w = c.value_as(&key("linear_weight"), "", w, LinearDensity);
+            let solid = density * std::f64::consts::PI * outer_radius * outer_radius;
+            if !(w > 0.0) && !w.is_nan() {
+                c.record(
+                    &key("linear_weight"),
+                    format!("must be > 0 {of}, got {} kg/m", show(w)),
+                )
+            } else if w >= solid {
+                c.record(
+                    &key("linear_weight"),
+                    format!(
+                        "is more than a solid bar of this outer size and density weighs ({} kg/m) {of}, got {} kg/m: the wall would be thicker than the pipe",
+                        show(solid),
+                        show(w)
+                    ),
+                )
+            } else {
+                (outer_radius * outer_radius - w / (std::f64::consts::PI * density)).sqrt()
+            }
+        }
+        (Some(_), ..) => c.record(
+            &key("linear_weight"),
+            format!("give the inner size or the linear weight, not both {of}"),
+        ),
+    };
     let youngs_modulus = material(
         "youngs_modulus",
         &t.youngs_modulus,
@@ -192,6 +215,16 @@ fn section(
         pipe.poisson_ratio,
         Dimensionless,
     );
+    if inner_radius >= outer_radius {
+        c.record(
+            &outer_key,
+            format!(
+                "must exceed the inner size {of}: outer radius {} m, inner radius {} m",
+                show(outer_radius),
+                show(inner_radius)
+            ),
+        );
+    }
     let cowper = cowper_shear_factor(poisson_ratio, inner_radius, outer_radius);
     let factor =
         |k: &str, raw: &Option<RawQuantity>, word: &str, word_value: f64, default| match raw {

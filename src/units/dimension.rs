@@ -61,6 +61,8 @@ pub enum Dimension {
     Impulse,
     /// Power, SI unit W (a top drive's rating).
     Power,
+    /// Mass per length, SI unit kg/m (a pipe's linear weight, as drill-pipe tables give it).
+    LinearDensity,
 }
 
 /// `value` in a unit of `factor` SI units, in SI. A decimal sub-unit (mm, ms, us: factor 10⁻ᵏ)
@@ -194,6 +196,14 @@ impl Dimension {
                 // Mechanical horsepower, 550 ft·lbf/s (NIST SP 811, B.8: 7.456999 E+02 W).
                 ("hp", 550.0 * FT_LBF_NM),
             ],
+            // 1 lb = 0.45359237 kg, 1 ft = 0.3048 m (exact, NIST SP 811); "ppf", pounds per foot,
+            // is the field's spelling.
+            Dimension::LinearDensity => &[
+                ("kg/m", 1.0),
+                ("lb/ft", 0.453_592_37 / 0.3048),
+                ("lbm/ft", 0.453_592_37 / 0.3048),
+                ("ppf", 0.453_592_37 / 0.3048),
+            ],
         }
     }
 
@@ -238,7 +248,7 @@ impl Dimension {
     }
 
     /// Every dimension, for messages.
-    pub const ALL: [Dimension; 18] = [
+    pub const ALL: [Dimension; 19] = [
         Dimension::Dimensionless,
         Dimension::Length,
         Dimension::Time,
@@ -257,6 +267,7 @@ impl Dimension {
         Dimension::Torque,
         Dimension::Impulse,
         Dimension::Power,
+        Dimension::LinearDensity,
     ];
 
     /// "a force", "a stress (pressure)": the dimension in words, for messages.
@@ -280,6 +291,7 @@ impl Dimension {
             Torque => "a torque",
             Impulse => "an impulse",
             Power => "a power",
+            LinearDensity => "a mass per length",
             MomentOfInertia => "a moment of inertia",
         }
     }
@@ -461,6 +473,12 @@ mod tests {
         close(Dimension::Torque.parse("2.5 kN·m").unwrap(), 2500.0);
         close(Dimension::Impulse.parse("3 kN·s").unwrap(), 3000.0);
         close(Dimension::Power.parse("25 kW").unwrap(), 25e3);
+        // 19.81 lb/ft (the plain-end weight of 5½ in 21.90 lb/ft drill pipe) is 29.48 kg/m.
+        close(
+            Dimension::LinearDensity.parse("19.81 lb/ft").unwrap(),
+            19.81 * 1.488_163_943_569_553_8,
+        );
+        close(Dimension::LinearDensity.parse("29.5 kg/m").unwrap(), 29.5);
         // 1000 hp: a mid-size top drive (NIST: 1 hp = 745.6999 W).
         assert!((Dimension::Power.parse("1000 hp").unwrap() - 745_699.9).abs() < 0.1);
         close(Dimension::Rate.parse("7.2 1/h").unwrap(), 0.002);
