@@ -180,7 +180,7 @@ fn section(
         (Some(w), None, None) => {
             let w = c.value_as(&key("linear_weight"), "", w, LinearDensity);
             let solid = density * std::f64::consts::PI * outer_radius * outer_radius;
-            if !(w > 0.0) && !w.is_nan() {
+            if w <= 0.0 {
                 c.record(
                     &key("linear_weight"),
                     format!("must be > 0 {of}, got {} kg/m", show(w)),
