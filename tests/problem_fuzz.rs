@@ -20,7 +20,11 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 19] = [
+const SHIPPED: [(&str, &str); 20] = [
+    (
+        "problems/bha_example.toml",
+        include_str!("../problems/bha_example.toml"),
+    ),
     (
         "problems/bench/seed_study_driller.toml",
         include_str!("../problems/bench/seed_study_driller.toml"),
