@@ -212,6 +212,14 @@ fn the_start_carries_the_soft_string_torque_and_drag_of_each_section() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // The terminal says what string was built, section by section (sizes in mm, as input).
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    for line in [
+        "section 0 \"drill pipe\": 300.00 m, OD 139.70 mm, ID 121.36 mm",
+        "section 1 \"collars\": 100.00 m, OD 171.45 mm, ID 71.44 mm",
+    ] {
+        assert!(stdout.contains(line), "{line} not in {stdout}");
+    }
     let summary: Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
             .unwrap();

@@ -377,6 +377,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         &out,
         problem.model.stiffness_damping,
         problem.model.top,
+        &section_lines(&problem.model, problem.mesh.elements),
     );
     if let Some(w) = depth_of_cut_warning(&problem.model) {
         eprintln!("{w}");
@@ -457,7 +458,40 @@ pub(super) fn steady_state_warning(
     ))
 }
 
-fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDrive) {
+/// One line per section of a string of sections, as the model holds it (top drive to bit): its
+/// length, outer and inner diameter (mm), steel mass per length (kg/m), buoyed weight per length
+/// (N/m) and elements, so that sizes derived from a linear weight are seen; none for a string of
+/// one section.
+fn section_lines(string: &crate::model::Drillstring, elements: usize) -> Vec<String> {
+    if string.sections.is_empty() {
+        return Vec::new();
+    }
+    let layout = crate::fem::ElementLayout::of(string, elements);
+    let kinds = layout.kinds_of_elements();
+    (string.section_strings().iter().enumerate())
+        .map(|(k, sub)| {
+            let section = crate::model::Section::of(sub);
+            let count = kinds.iter().filter(|&&kind| layout.kinds()[kind].section == k).count();
+            format!(
+                "  section {k} \"{}\": {:.2} m, OD {:.2} mm, ID {:.2} mm, {:.2} kg/m of steel, buoyed weight {:.1} N/m, {count} elements",
+                string.sections[k].name,
+                sub.length,
+                2e3 * sub.pipe.outer_radius,
+                2e3 * sub.pipe.inner_radius,
+                section.pipe_mass,
+                section.weight_mass() * sub.gravity,
+            )
+        })
+        .collect()
+}
+
+fn print_summary(
+    s: &SummaryJson,
+    out: &Path,
+    stiffness_damping: f64,
+    top: TopDrive,
+    sections: &[String],
+) {
     let st = s.solver;
     // A run that stopped early did not simulate its duration: say so (the error follows).
     let done = match s.status {
@@ -494,6 +528,9 @@ fn print_summary(s: &SummaryJson, out: &Path, stiffness_damping: f64, top: TopDr
             ),
         }
     );
+    for line in sections {
+        println!("{line}");
+    }
     if s.max_step_s < s.nominal_step_s {
         println!(
             "  step at most {:.3} ms (the nominal {:.3} ms capped at 1/20 of the lowest torsional/axial period)",
