@@ -12,7 +12,7 @@ use super::Dimension;
 use super::schema::{RawQuantity, SectionTable};
 use super::validate::{Checker, yield_strength};
 use crate::model::{Pipe, StringSection, cowper_shear_factor};
-use crate::units::show;
+use crate::units::{short, show};
 
 /// At most this many sections: far beyond a real string's few (pipe, heavy-weight pipe, jars,
 /// collars, stabilisers, motor).
@@ -68,15 +68,15 @@ pub(super) fn sections(
     if total.is_finite() && length.is_finite() && (total - length).abs() > LENGTH_TOLERANCE * length
     {
         let list: Vec<String> = (sections.iter())
-            .map(|s| format!("{} {} m", s.name, show(s.length)))
+            .map(|s| format!("{} {} m", s.name, short(s.length)))
             .collect();
         c.record(
             "model.length",
             format!(
                 "must be the sum of the sections' lengths ({}: {} m), got {} m",
                 list.join(" + "),
-                show(total),
-                show(length)
+                short(total),
+                short(length)
             ),
         );
     }
@@ -149,7 +149,7 @@ fn section(
     if length <= 0.0 {
         c.record(
             &key("length"),
-            format!("must be > 0 {of}, got {} m", show(length)),
+            format!("must be > 0 {of}, got {} m", short(length)),
         );
     }
     let outer_radius = size(&t.outer_radius, &t.outer_diameter, "outer");
@@ -162,9 +162,9 @@ fn section(
         c.record(
             &outer_key,
             format!(
-                "the section must fit in the hole {of}: outer radius {} m, borehole radius {} m (a stabiliser nearly fills it)",
-                show(outer_radius),
-                show(borehole_radius)
+                "the section must fit in the hole {of}: outer diameter {} mm, hole diameter {} mm (a stabiliser nearly fills it)",
+                short(2e3 * outer_radius),
+                short(2e3 * borehole_radius)
             ),
         );
     }
@@ -183,15 +183,15 @@ fn section(
             if w <= 0.0 {
                 c.record(
                     &key("linear_weight"),
-                    format!("must be > 0 {of}, got {} kg/m", show(w)),
+                    format!("must be > 0 {of}, got {} kg/m", short(w)),
                 )
             } else if w >= solid {
                 c.record(
                     &key("linear_weight"),
                     format!(
                         "is more than a solid bar of this outer size and density weighs ({} kg/m) {of}, got {} kg/m: the wall would be thicker than the pipe",
-                        show(solid),
-                        show(w)
+                        short(solid),
+                        short(w)
                     ),
                 )
             } else {
@@ -219,9 +219,9 @@ fn section(
         c.record(
             &outer_key,
             format!(
-                "must exceed the inner size {of}: outer radius {} m, inner radius {} m",
-                show(outer_radius),
-                show(inner_radius)
+                "must exceed the inner size {of}: outer diameter {} mm, inner diameter {} mm",
+                short(2e3 * outer_radius),
+                short(2e3 * inner_radius)
             ),
         );
     }
