@@ -29,9 +29,16 @@ fn columns(e: &StressEnvelope) -> [(&'static str, &[f64]); 9] {
 
 /// `stress_envelope.csv` as text: a header, then one row per element, top drive to bit. Reals in
 /// their shortest round-trip form (as the time series CSV); NaN (not tracked) as `NaN`.
+///
+/// A string of sections has a last column `section`, the element's section by name (quoted as
+/// RFC 4180 says when it holds a comma or a quote).
 pub fn envelope_csv(e: &StressEnvelope) -> String {
     let cols = columns(e);
     let mut out = cols.map(|c| c.0).join(",");
+    let sections = !e.sections.is_empty();
+    if sections {
+        out.push_str(",section");
+    }
     out.push('\n');
     for i in 0..e.position_m.len() {
         for (k, (_, values)) in cols.iter().enumerate() {
@@ -40,6 +47,17 @@ pub fn envelope_csv(e: &StressEnvelope) -> String {
             }
             if let Some(&v) = values.get(i) {
                 out.push_str(zmij::Buffer::new().format(v));
+            }
+        }
+        if sections {
+            out.push(',');
+            let name = e.section_of(i).unwrap_or("");
+            if name.contains([',', '"', '\n']) {
+                out.push('"');
+                out.push_str(&name.replace('"', "\"\""));
+                out.push('"');
+            } else {
+                out.push_str(name);
             }
         }
         out.push('\n');
@@ -71,6 +89,18 @@ pub fn plot_stress_envelope(
     });
     let curve = e.sn_curve.as_ref().map_or("", |c| c.name);
     let fatigue_caption = format!("Fatigue damage rate of the worst fibre (Miner, {curve})");
+    // A string of sections says where each is, under the first panel.
+    let spans: Vec<String> = (e.sections.iter())
+        .map(|s| format!("{} {:.0}-{:.0} m", s.name, s.from_m, s.to_m))
+        .collect();
+    let stress_caption = if spans.is_empty() {
+        "Largest von Mises stress at the outer fibre".to_string()
+    } else {
+        format!(
+            "Largest von Mises stress at the outer fibre; sections: {}",
+            spans.join(", ")
+        )
+    };
     plot_panels_over(
         path,
         &format!("Stresses along the string, {}", operating_point_text(op)),
@@ -78,7 +108,7 @@ pub fn plot_stress_envelope(
         "x from the top drive [m]",
         &[
             Panel {
-                caption: "Largest von Mises stress at the outer fibre",
+                caption: &stress_caption,
                 y_label: "max \u{3c3}_vM [MPa]",
                 y: &e.max_von_mises_pa,
                 scale: 1e-6,
@@ -112,6 +142,30 @@ pub fn plot_stress_envelope(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_string_of_sections_names_each_element_s_section() {
+        let p = crate::problem::Problem::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/bha_example.toml"
+        ))
+        .unwrap();
+        let layout = crate::fem::ElementLayout::of(&p.model, p.mesh.elements);
+        let e = StressEnvelope::for_string(&p.model, &layout, 0.0);
+        let csv = envelope_csv(&e);
+        let lines: Vec<&str> = csv.lines().collect();
+        assert!(lines[0].ends_with(",section"), "{}", lines[0]);
+        assert_eq!(lines.len(), 1 + p.mesh.elements);
+        // The file's graded mesh: 27 elements of drill pipe, then 25 of heavy-weight pipe.
+        assert!(lines[27].ends_with(",drill pipe"), "{}", lines[27]);
+        assert!(lines[28].ends_with(",heavy-weight pipe"), "{}", lines[28]);
+        assert!(lines[98].ends_with(",near-bit collar"), "{}", lines[98]);
+        assert_eq!(e.sections.len(), 5);
+        assert_eq!((e.sections[1].from_m, e.sections[1].to_m), (270.0, 370.0));
+        // One section: no such column.
+        let one = StressEnvelope::new(3, 2.0, 0.0);
+        assert!(!envelope_csv(&one).contains("section"));
+    }
 
     #[test]
     fn the_csv_has_one_row_per_element_and_reads_back() {

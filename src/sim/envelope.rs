@@ -14,6 +14,15 @@ use serde::Serialize;
 /// Seconds per hour: damage is reported per hour of drilling.
 const S_PER_H: f64 = 3600.0;
 
+/// A section of a string of sections along it (`[[model.section]]`): its name and where it
+/// starts and ends, m from the top drive.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SectionSpan {
+    pub name: String,
+    pub from_m: f64,
+    pub to_m: f64,
+}
+
 /// Extremes and time means of the section loads, one entry per element (midpoints, top to bit).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct StressEnvelope {
@@ -44,6 +53,9 @@ pub struct StressEnvelope {
     pub fatigue_fibres: usize,
     /// Rainflow residues that filled their counter (see [`crate::fatigue::Rainflow`]).
     pub rainflow_overflows: u64,
+    /// The sections of a string of sections, top to bit (empty for a string of one section).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<SectionSpan>,
     /// Time covered by the means, s (0 before the envelope starts).
     pub duration_s: f64,
     /// When the envelope starts (the analysis window's start), s.
@@ -118,6 +130,18 @@ impl StressEnvelope {
             .sections
             .is_empty()
             .then(|| envelope.buckling_by_kind[0]);
+        let mut from = 0.0;
+        envelope.sections = (string.sections.iter())
+            .map(|s| {
+                let span = SectionSpan {
+                    name: s.name.clone(),
+                    from_m: from,
+                    to_m: from + s.length,
+                };
+                from += s.length;
+                span
+            })
+            .collect();
         envelope.sn_curve = Some(string.pipe.fatigue.clone());
         envelope.fatigue_fibres = FATIGUE_FIBRES;
         envelope.fatigue = Some(SectionFatigue::new(elements, string.pipe.fatigue.clone()));
@@ -191,6 +215,12 @@ impl StressEnvelope {
                 *u = self.buckling_by_kind[self.kind_of[e]].utilization(c);
             }
         }
+    }
+
+    /// The name of the section element `e` belongs to (`None` for a string of one section).
+    pub fn section_of(&self, e: usize) -> Option<&str> {
+        // A string of sections has one kind of element per section, in order.
+        (self.sections.get(self.kind_of[e])).map(|s| s.name.as_str())
     }
 
     /// The largest compression over the helical buckling load of its section along the string
