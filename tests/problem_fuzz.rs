@@ -20,7 +20,11 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 20] = [
+const SHIPPED: [(&str, &str); 21] = [
+    (
+        "problems/long_collars_rgd_stick.toml",
+        include_str!("../problems/long_collars_rgd_stick.toml"),
+    ),
     (
         "problems/bha_example.toml",
         include_str!("../problems/bha_example.toml"),

@@ -42,8 +42,6 @@ gravity = "9.81 m/s^2"
 density = "7900 kg/m^3"
 youngs_modulus = "203 GPa"
 poisson_ratio = 0.3
-inner_radius = "60.6806 mm"
-outer_radius = "69.85 mm"
 damping = "0.03 1/s"
 torsion_factor = 1
 [model.fluid]
@@ -259,8 +257,12 @@ fn one_section_equal_to_the_pipe_is_the_string_without_sections() {
         "/problems/regression/tiny_string.toml"
     ))
     .unwrap();
+    // The sizes move from [model.pipe] (where they are refused beside sections) to the section.
+    let sizes = "inner_radius = \"40 mm\"\nouter_radius = \"60 mm\"\n";
+    assert!(text.contains(sizes));
     let one = format!(
-        "{text}\n[[model.section]]\nname = \"pipe\"\nlength = \"8 m\"\nouter_radius = \"60 mm\"\ninner_radius = \"40 mm\"\n"
+        "{}\n[[model.section]]\nname = \"pipe\"\nlength = \"8 m\"\nouter_radius = \"60 mm\"\ninner_radius = \"40 mm\"\n",
+        text.replace(sizes, "")
     );
     let plain = Problem::from_toml(&text, Path::new("plain.toml")).unwrap();
     let sectioned = Problem::from_toml(&one, Path::new("one.toml")).unwrap();
@@ -320,6 +322,13 @@ fn bad_sections_are_refused_by_section_and_key_in_one_pass() {
     let err = Problem::from_toml(&negative, Path::new("b.toml")).unwrap_err();
     let keys: Vec<&str> = err.key_errors().iter().map(|e| e.key.as_str()).collect();
     assert!(keys.contains(&"model.section[1].length"), "{err}");
+    let sized = two_sections(80, 0.3).replace(
+        "poisson_ratio = 0.3\n",
+        "poisson_ratio = 0.3\nouter_radius = \"69.85 mm\"\n",
+    );
+    let err = Problem::from_toml(&sized, Path::new("b.toml")).unwrap_err();
+    assert_eq!(err.key(), Some("model.pipe.outer_radius"), "{err}");
+    assert!(err.to_string().contains("not used beside"), "{err}");
     let err = Problem::from_toml(&two_sections(1, 0.3), Path::new("b.toml")).unwrap_err();
     assert_eq!(err.key(), Some("mesh.elements"), "{err}");
     let uncertain = two_sections(80, 0.3)

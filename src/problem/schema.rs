@@ -113,8 +113,10 @@ pub struct PipeSection {
     pub density: RawQuantity,
     pub youngs_modulus: RawQuantity,
     pub poisson_ratio: RawQuantity,
-    pub inner_radius: RawQuantity,
-    pub outer_radius: RawQuantity,
+    /// The pipe's sizes: required for a string of one section, refused beside
+    /// `[[model.section]]` (each section gives its own).
+    pub inner_radius: Option<RawQuantity>,
+    pub outer_radius: Option<RawQuantity>,
     pub damping: RawQuantity,
     /// Stiffness-proportional damping β (s): C = c M_pipe + β K.
     pub stiffness_damping: Option<RawQuantity>,

@@ -587,7 +587,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         Some(g) => c.non_negative("model.gravity", g, Acceleration)?,
         None => STANDARD_GRAVITY,
     };
-    let pipe = pipe(c, &m.pipe)?;
+    let mut pipe = pipe(c, &m.pipe)?;
     let fluid_density = c.non_negative("model.fluid.density", &m.fluid.density, Density)?;
     let annulus_density = match &m.fluid.annulus_density {
         Some(raw) => c.non_negative("model.fluid.annulus_density", raw, Density)?,
@@ -596,6 +596,36 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     let borehole_radius = c.positive("model.borehole.radius", &m.borehole.radius, Length)?;
     let sections =
         super::validate_sections::sections(c, &m.section, &pipe, length, borehole_radius);
+    // The sizes: [model.pipe]'s for a string of one section, each section's otherwise (the
+    // first section's then stand in [model.pipe], whose sizes nothing else reads).
+    for (key, given) in [
+        ("model.pipe.inner_radius", m.pipe.inner_radius.is_some()),
+        ("model.pipe.outer_radius", m.pipe.outer_radius.is_some()),
+    ] {
+        match (given, sections.is_empty()) {
+            (false, true) => {
+                c.record(
+                    key,
+                    "is required (or give the string's [[model.section]], each with its own sizes)"
+                        .to_string(),
+                );
+            }
+            (true, false) => {
+                c.record(key, "is not used beside [[model.section]]: each section gives its own sizes (outer_radius or outer_diameter, inner_radius, inner_diameter or linear_weight); remove it".to_string());
+            }
+            _ => {}
+        }
+    }
+    if let Some(first) = sections.first() {
+        pipe.inner_radius = first.pipe.inner_radius;
+        pipe.outer_radius = first.pipe.outer_radius;
+        if pipe.shear_factor.is_nan() {
+            pipe.shear_factor = first.pipe.shear_factor;
+        }
+        if pipe.torsion_factor.is_nan() {
+            pipe.torsion_factor = first.pipe.torsion_factor;
+        }
+    }
     // With sections, each section's fit in the hole is checked with the section.
     if sections.is_empty() {
         c.check(
@@ -795,8 +825,15 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
     let density = c.positive("model.pipe.density", &p.density, Density)?;
     let youngs_modulus = c.positive("model.pipe.youngs_modulus", &p.youngs_modulus, Pressure)?;
     let poisson_ratio = c.value("model.pipe.poisson_ratio", &p.poisson_ratio, Dimensionless)?;
-    let inner_radius = c.non_negative("model.pipe.inner_radius", &p.inner_radius, Length)?;
-    let outer_radius = c.positive("model.pipe.outer_radius", &p.outer_radius, Length)?;
+    // Absent: NaN here, required or taken from the first section by `drillstring`.
+    let inner_radius = match &p.inner_radius {
+        Some(raw) => c.non_negative("model.pipe.inner_radius", raw, Length)?,
+        None => f64::NAN,
+    };
+    let outer_radius = match &p.outer_radius {
+        Some(raw) => c.positive("model.pipe.outer_radius", raw, Length)?,
+        None => f64::NAN,
+    };
     c.check(
         "model.pipe.outer_radius",
         outer_radius,

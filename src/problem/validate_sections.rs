@@ -237,12 +237,19 @@ fn section(
             Some(raw) => c.value_as(&key(k), &format!("model.pipe.{k}"), raw, Dimensionless),
         };
     let shear_factor = factor("shear_factor", &t.shear_factor, "cowper", cowper, cowper);
+    // [model.pipe]'s torsion factor; its "shear" (NaN without [model.pipe] sizes) is this
+    // section's shear factor.
+    let default_torsion = if pipe.torsion_factor.is_nan() {
+        shear_factor
+    } else {
+        pipe.torsion_factor
+    };
     let torsion_factor = factor(
         "torsion_factor",
         &t.torsion_factor,
         "shear",
         shear_factor,
-        pipe.torsion_factor,
+        default_torsion,
     );
     let yield_strength = match &t.yield_strength {
         None => pipe.yield_strength,
