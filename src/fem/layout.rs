@@ -252,15 +252,7 @@ pub fn share_out(elements: usize, lengths: &[f64]) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn seed() -> Drillstring {
-        crate::problem::Problem::load(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/problems/seed_mc2014.toml"
-        ))
-        .unwrap()
-        .model
-    }
+    use crate::fem::test_support::seed_string as seed;
 
     #[test]
     fn elements_are_shared_out_by_length() {
