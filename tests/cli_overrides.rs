@@ -360,3 +360,105 @@ fn a_short_duration_says_that_it_cuts_the_settling_time() {
     ok(&out);
     assert!(!String::from_utf8_lossy(&out.stderr).contains("settling_time"));
 }
+
+/// The number after `label` in `text` ("ROP 12.345 m/h" → 12.345) and the unit after it.
+fn figure<'a>(text: &'a str, label: &str) -> (f64, &'a str) {
+    let at = text
+        .find(label)
+        .unwrap_or_else(|| panic!("no {label:?} in {text}"))
+        + label.len();
+    let mut words = text[at..].split_whitespace();
+    let value = words.next().unwrap().parse().unwrap();
+    (value, words.next().unwrap())
+}
+
+#[test]
+fn field_units_show_the_same_run_in_feet_klbf_and_psi() {
+    // One run, shown twice: --units field changes what a person reads (terminal, plots, CSV),
+    // not the run or its SI result files.
+    let dir = tempfile::tempdir().unwrap();
+    let (metric, field) = (dir.path().join("metric"), dir.path().join("field"));
+    let run = |out: &Path, units: &str| {
+        let out = drillopt(&[
+            "simulate",
+            TINY,
+            "--quiet",
+            "--units",
+            units,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        ok(&out);
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let (m, f) = (run(&metric, "metric"), run(&field, "field"));
+    // 0.3048 m per ft, 4.4482216152605 N per lbf, 1.3558179483314 N·m per ft·lbf, 6894.757 Pa
+    // per psi (NIST SP 811, B.8); each figure printed to its decimals.
+    for (label, metric_unit, field_unit, per, decimals) in [
+        ("ROP ", "m/h", "ft/h", 0.3048, 3),
+        ("WOB ", "kN", "klbf", 4.448_221_615_260_5, 1),
+        ("TOB ", "kN\u{b7}m", "kft\u{b7}lbf", 1.355_817_948_331_4, 2),
+        ("von Mises ", "MPa", "psi", 6.894_757_293_168e-3, 1),
+    ] {
+        let (mv, mu) = figure(&m, label);
+        let (fv, fu) = figure(&f, label);
+        assert_eq!((mu, fu), (metric_unit, field_unit), "{label}");
+        let half = 0.5 * 10f64.powi(-decimals);
+        assert!(
+            (fv - mv / per).abs() <= half + half / per,
+            "{label}{mv} {mu} = {} {fu}, printed {fv}",
+            mv / per
+        );
+    }
+    assert!(
+        !f.contains(" m/h") && !f.contains(" kN") && !f.contains(" MPa"),
+        "{f}"
+    );
+    // The SI results are the same run.
+    let (sm, sf) = (
+        json(&metric.join("summary.json")),
+        json(&field.join("summary.json")),
+    );
+    assert_eq!(sm["metrics"], sf["metrics"]);
+    let axial = std::fs::read_to_string(field.join("bit_axial.svg")).unwrap();
+    assert!(axial.contains("[ft/h]") && !axial.contains("[m/h]"));
+    let envelope = std::fs::read_to_string(field.join("stress_envelope.svg")).unwrap();
+    assert!(envelope.contains("[psi]") && envelope.contains("[ft]"));
+
+    // compare: the table, evaluations.csv and the plots in field units.
+    let out = dir.path().join("compare");
+    let compare = drillopt(&[
+        "compare",
+        TINY,
+        "--point",
+        "100rpm,20m/h",
+        "--quiet",
+        "--units",
+        "oilfield",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    ok(&compare);
+    let table = String::from_utf8(compare.stdout).unwrap();
+    assert!(
+        table.contains("V0 ft/h") && table.contains("ROP ft/h") && table.contains("WOB klbf"),
+        "{table}"
+    );
+    let csv = std::fs::read_to_string(out.join("evaluations.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+    let cell = |key: &str| -> f64 {
+        row[header.iter().position(|h| *h == key).unwrap()]
+            .parse()
+            .unwrap()
+    };
+    // 20 m/h = 65.6167979 ft/h; the bit's ROP and WOB are the run's SI values converted.
+    assert_eq!(row[1], "65.6167979");
+    let si = json(&out.join("compare.json"));
+    let sample = &si["points"][0]["samples"][0]["metrics"];
+    let rop = sample["mean_rop_m_per_h"].as_f64().unwrap() / 0.3048;
+    let wob = sample["mean_wob_n"].as_f64().unwrap() / 4_448.221_615_260_5;
+    assert!((cell("mean_rop [ft/h]") - rop).abs() <= 1e-8 * rop, "{csv}");
+    assert!((cell("mean_wob [klbf]") - wob).abs() <= 1e-8 * wob, "{csv}");
+    assert!(!csv.lines().next().unwrap().contains("[m/h]"));
+}

@@ -148,7 +148,7 @@ fn sequential_map_runs_fewer_simulations_and_finds_the_same_best_node() {
             .lines()
             .next()
             .unwrap()
-            .contains("score        ±    n"),
+            .contains("score m/h        ±    n"),
         "{stdout}"
     );
     assert!(

@@ -122,7 +122,9 @@ pub fn held_by_mismatch(
     })
 }
 
-pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
+/// `units`: of each solve's terminal output and reports; the pass/fail table compares with the
+/// `[expect]` ranges in the units they are written in (rpm, m/h, kN).
+pub fn run(args: &BatchArgs, units: crate::units::UnitSystem) -> anyhow::Result<()> {
     let mut files = Vec::new();
     toml_files(&args.dir, &mut files)?;
     super::study::start_threads(args.run.threads)?;
@@ -161,6 +163,7 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<()> {
                 args.run.resume,
                 args.run.quiet,
                 !args.run.quiet,
+                units,
             )
         }) {
             Err(e) => Verdict {

@@ -8,6 +8,7 @@ use crate::problem::{Dimension, Problem};
 use crate::report;
 use crate::report::{CompareJson, StudyHeader, WorkJson};
 use crate::sim;
+use crate::units::UnitSystem;
 use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
@@ -70,7 +71,7 @@ pub fn parse_point(text: &str, kind: SetPoint) -> anyhow::Result<OperatingPoint>
     Ok(OperatingPoint::of(kind, omega, s))
 }
 
-pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
     let mut problem = Problem::load(&args.problem)?;
     if let Some(w) = super::simulate::depth_of_cut_warning(&problem.model) {
         eprintln!("{w}");
@@ -98,11 +99,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let runs: Vec<(String, sim::RunOutput)> = ops
         .iter()
         .map(|op| {
+            let (unit, set_point) = units.from_metric(op.kind().unit(), op.shown_set_point());
             let label = format!(
-                "{:.0} rpm, {:.1} {}",
+                "{:.0} rpm, {set_point:.1} {unit}",
                 crate::units::to_rpm(op.omega),
-                op.shown_set_point(),
-                op.kind().unit()
             );
             sim::run_problem(
                 &problem,
@@ -121,10 +121,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         work: WorkJson::of(&ev, clock.elapsed().as_secs_f64()),
     };
     report::write_json_atomic(&out.join("compare.json"), &json)?;
-    report::write_evaluations_csv(&out, &problem, &ev.samples, &points)?;
+    report::write_evaluations_csv(&out, &problem, &ev.samples, &points, units)?;
     super::study_plots::compare_plots(&out, &runs, &ops)?;
     // The result is printed even with --quiet, as solve and simulate print theirs.
-    study::print_table(&points);
+    study::print_table(
+        &points,
+        &study::TableUnits::new(units, problem.study.quantity),
+    );
     println!("  results in {}", out.display());
     Ok(())
 }

@@ -6,6 +6,7 @@ use crate::problem::Problem;
 use crate::report;
 use crate::report::{EvaluationJson, MapJson, PointJson, StudyHeader, WorkJson};
 use crate::solve::{self, MapOutcome};
+use crate::units::UnitSystem;
 use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
@@ -39,7 +40,7 @@ pub fn parse_grid(text: &str) -> anyhow::Result<[usize; 2]> {
     }
 }
 
-pub fn run(args: &MapArgs) -> anyhow::Result<()> {
+pub fn run(args: &MapArgs, units: UnitSystem) -> anyhow::Result<()> {
     let mut problem = Problem::load(&args.problem)?;
     if let Some(w) = super::simulate::depth_of_cut_warning(&problem.model) {
         eprintln!("{w}");
@@ -78,28 +79,42 @@ pub fn run(args: &MapArgs) -> anyhow::Result<()> {
         work: WorkJson::of(&ev, clock.elapsed().as_secs_f64()),
     };
     report::write_json_atomic(&out.join("map.json"), &json)?;
-    report::write_evaluations_csv(&out, &problem, &ev.samples, m.points.iter().flatten())?;
-    super::study_plots::map_plots(&problem, &out, &m)?;
+    report::write_evaluations_csv(
+        &out,
+        &problem,
+        &ev.samples,
+        m.points.iter().flatten(),
+        units,
+    )?;
+    super::study_plots::map_plots(&problem, &out, &m, units)?;
     // The result is printed even with --quiet, as solve and simulate print theirs.
-    for line in table(&m) {
+    let t = study::TableUnits::new(units, problem.study.quantity);
+    for line in table(&m, &t) {
         println!("{line}");
     }
-    study::print_best(m.best.as_ref(), "best grid point", "no feasible grid point");
+    study::print_best(
+        m.best.as_ref(),
+        "best grid point",
+        "no feasible grid point",
+        &t,
+    );
     println!("  results in {}", out.display());
     Ok(())
 }
 
 /// The terminal table of a map: a header and one line per grid node (V0 rows, Ω columns, as in
 /// `map.json`), a node outside the linear constraints included and said to be so.
-fn table(m: &MapOutcome) -> Vec<String> {
+fn table(m: &MapOutcome, t: &study::TableUnits) -> Vec<String> {
     let n_omega = m.omega.len();
-    let mut lines = vec![study::table_header(m.kind).to_owned()];
+    let mut lines = vec![study::table_header(m.kind, t)];
     lines.extend(m.points.iter().enumerate().map(|(k, p)| match p {
-        Some(p) => study::table_row(p),
+        Some(p) => study::table_row(p, t),
         None => format!(
             "{:7.1} {:8.2}   outside the linear constraints: not simulated",
             m.omega[k % n_omega] * report::RPM_PER_RAD_S,
-            m.kind.to_unit(m.set_point[k / n_omega])
+            (t.units)
+                .from_metric(m.kind.unit(), m.kind.to_unit(m.set_point[k / n_omega]))
+                .1
         ),
     }));
     lines
@@ -112,7 +127,9 @@ mod tests {
         let problem = crate::cli::study_plots::tests::problem();
         let m = crate::cli::study_plots::tests::map_4x4(&problem.study);
         assert_eq!(m.points.iter().filter(|p| p.is_none()).count(), 6);
-        let lines = super::table(&m);
+        let t =
+            super::study::TableUnits::new(crate::units::UnitSystem::Metric, problem.study.quantity);
+        let lines = super::table(&m, &t);
         assert_eq!(lines.len(), 1 + 16, "{lines:#?}");
         let outside: Vec<&String> = lines.iter().filter(|l| l.contains("outside")).collect();
         assert_eq!(outside.len(), 6);

@@ -20,6 +20,32 @@ use clap::{Parser, Subcommand};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// Units of the terminal, the CSV tables (evaluations.csv) and the plots: `metric` (rpm, m/h,
+    /// kN, kN·m, MPa, m, mm, kW) or `field` (oilfield units: rpm, ft/h, klbf, kft·lbf, psi, ft,
+    /// in, hp; also `oilfield`). The JSON results and timeseries.csv stay in SI, with the unit
+    /// in each key
+    #[arg(long, global = true, value_enum, default_value = "metric")]
+    pub units: Units,
+}
+
+/// `--units`: the [`UnitSystem`](crate::units::UnitSystem) of the human-readable outputs.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Units {
+    /// rpm, m/h, kN, kN·m, MPa, m, mm, kW.
+    #[default]
+    Metric,
+    /// rpm, ft/h, klbf, kft·lbf, psi, ft, in, hp.
+    #[value(alias = "oilfield")]
+    Field,
+}
+
+impl From<Units> for crate::units::UnitSystem {
+    fn from(u: Units) -> Self {
+        match u {
+            Units::Metric => crate::units::UnitSystem::Metric,
+            Units::Field => crate::units::UnitSystem::Field,
+        }
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -181,15 +207,16 @@ pub enum Outcome {
 /// Run a parsed command line; `Err` for a command that could not run (bad input, I/O, …).
 pub fn run(cli: Cli) -> anyhow::Result<Outcome> {
     let done = |r: anyhow::Result<()>| r.map(|()| Outcome::Success);
+    let units = crate::units::UnitSystem::from(cli.units);
     match cli.command {
         Command::Modes(args) => done(modes::run(&args)),
         Command::Campbell(args) => done(campbell::run(&args)),
-        Command::Simulate(args) => done(simulate::run(&args)),
-        Command::Solve(args) => done(solve::run(&args)),
-        Command::Compare(args) => done(compare::run(&args)),
-        Command::Map(args) => done(map::run(&args)),
-        Command::Batch(args) => done(batch::run(&args)),
-        Command::Verify(args) => verify::run(&args),
+        Command::Simulate(args) => done(simulate::run(&args, units)),
+        Command::Solve(args) => done(solve::run(&args, units)),
+        Command::Compare(args) => done(compare::run(&args, units)),
+        Command::Map(args) => done(map::run(&args, units)),
+        Command::Batch(args) => done(batch::run(&args, units)),
+        Command::Verify(args) => verify::run(&args, units),
     }
 }
 

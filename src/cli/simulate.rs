@@ -7,6 +7,7 @@ use crate::model::{OperatingPoint, TopDrive};
 use crate::problem::{Dimension, Problem};
 use crate::report::{self, ProblemRecord, RunStatus, SummaryJson};
 use crate::sim;
+use crate::units::{Shown, Shown::*, UnitSystem};
 use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -234,7 +235,7 @@ fn sample_interval(
     Ok(sim::SampleInterval::Fixed(dt))
 }
 
-pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let (op, duration) = point_and_duration(&problem, &args.point)?;
     let out = super::study::out_dir(&args.out, &problem, "simulate")?;
@@ -355,11 +356,11 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     if !series.is_empty() {
         let s = &series;
         csv.finish()?;
-        report::plot_bit_axial(s, &op, &out.join("bit_axial.svg"))?;
-        report::plot_bit_rotation(s, &op, &out.join("bit_rotation.svg"))?;
+        report::plot_bit_axial(s, &op, units, &out.join("bit_axial.svg"))?;
+        report::plot_bit_rotation(s, &op, units, &out.join("bit_rotation.svg"))?;
         for (k, x) in s.probe_positions.iter().enumerate() {
             let name = format!("radial_x{}m.svg", report::probe_label(*x));
-            report::plot_probe_radial(s, k, problem.model.gap(), &op, &out.join(name))?;
+            report::plot_probe_radial(s, k, problem.model.gap(), &op, units, &out.join(name))?;
         }
         let envelope = &output.envelope;
         if envelope.rainflow_overflows > 0 {
@@ -370,14 +371,15 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             );
         }
         report::write_envelope_csv(&out.join("stress_envelope.csv"), envelope)?;
-        report::plot_stress_envelope(envelope, &op, &out.join("stress_envelope.svg"))?;
+        report::plot_stress_envelope(envelope, &op, units, &out.join("stress_envelope.svg"))?;
     }
     print_summary(
         &summary,
         &out,
         problem.model.stiffness_damping,
         problem.model.top,
-        &section_lines(&problem.model, problem.mesh.elements),
+        &section_lines(&problem.model, problem.mesh.elements, units),
+        units,
     );
     if let Some(w) = depth_of_cut_warning(&problem.model) {
         eprintln!("{w}");
@@ -462,7 +464,11 @@ pub(super) fn steady_state_warning(
 /// length, outer and inner diameter (mm), steel mass per length (kg/m), buoyed weight per length
 /// (N/m) and elements, so that sizes derived from a linear weight are seen; none for a string of
 /// one section.
-fn section_lines(string: &crate::model::Drillstring, elements: usize) -> Vec<String> {
+fn section_lines(
+    string: &crate::model::Drillstring,
+    elements: usize,
+    u: UnitSystem,
+) -> Vec<String> {
     if string.sections.is_empty() {
         return Vec::new();
     }
@@ -472,14 +478,19 @@ fn section_lines(string: &crate::model::Drillstring, elements: usize) -> Vec<Str
         .map(|(k, sub)| {
             let section = crate::model::Section::of(sub);
             let count = kinds.iter().filter(|&&kind| layout.kinds()[kind].section == k).count();
+            let weight = u.of(LineLoad, section.weight_mass() * sub.gravity);
+            let weight_unit = u.unit(LineLoad);
             format!(
-                "  section {k} \"{}\": {:.2} m, OD {:.2} mm, ID {:.2} mm, {:.2} kg/m of steel, buoyed weight {:.1} N/m, {count} elements",
+                "  section {k} \"{}\": {:.2} {}, OD {:.2} {}, ID {:.2} {}, {:.2} {} of steel, buoyed weight {weight:.1} {weight_unit}, {count} elements",
                 string.sections[k].name,
-                sub.length,
-                2e3 * sub.pipe.outer_radius,
-                2e3 * sub.pipe.inner_radius,
-                section.pipe_mass,
-                section.weight_mass() * sub.gravity,
+                u.of(Position, sub.length),
+                u.unit(Position),
+                u.of(Size, 2.0 * sub.pipe.outer_radius),
+                u.unit(Size),
+                u.of(Size, 2.0 * sub.pipe.inner_radius),
+                u.unit(Size),
+                u.of(LinearDensity, section.pipe_mass),
+                u.unit(LinearDensity),
             )
         })
         .collect()
@@ -491,8 +502,17 @@ fn print_summary(
     stiffness_damping: f64,
     top: TopDrive,
     sections: &[String],
+    u: UnitSystem,
 ) {
     let st = s.solver;
+    // A value in SI shown with its unit: "12.345 ft/h".
+    let show =
+        |q: Shown, si: f64, decimals: usize| format!("{:.decimals$} {}", u.of(q, si), u.unit(q));
+    // A value given in the metric unit `unit` (the keys in m/h or kN), shown so.
+    let show_metric = |unit: &'static str, v: f64, decimals: usize| {
+        let (unit, v) = u.from_metric(unit, v);
+        format!("{v:.decimals$} {unit}")
+    };
     // A run that stopped early did not simulate its duration: say so (the error follows).
     let done = match s.status {
         RunStatus::Failed => format!("stopped before the end of its {} s", s.duration_s),
@@ -504,9 +524,9 @@ fn print_summary(
         s.operating_point.omega_rpm,
         match s.operating_point.set_point {
             crate::model::SetPointValue::Wob { wob_kn, .. } =>
-                format!("WOB set-point {wob_kn:.3} kN"),
+                format!("WOB set-point {}", show_metric("kN", wob_kn, 3)),
             crate::model::SetPointValue::Feed { v0_m_per_h, .. } =>
-                format!("V0 = {v0_m_per_h:.3} m/h"),
+                format!("V0 = {}", show_metric("m/h", v0_m_per_h, 3)),
         },
         st.wall_time_s,
         st.steps,
@@ -540,32 +560,32 @@ fn print_summary(
     }
     if let Some(m) = &s.metrics {
         println!(
-            "  ROP {:.3} m/h | SSI {:.2} | stick {:.1}% | bounce {:.1}% | impacts {:.2}/s | WOB {:.1} kN | TOB {:.2} kN·m | energy residual {:.1e}",
-            m.mean_rop_m_per_h,
+            "  ROP {} | SSI {:.2} | stick {:.1}% | bounce {:.1}% | impacts {:.2}/s | WOB {} | TOB {} | energy residual {:.1e}",
+            show_metric("m/h", m.mean_rop_m_per_h, 3),
             m.stick_slip_severity,
             100.0 * m.stick_fraction,
             100.0 * m.bit_bounce_fraction,
             m.impacts_per_s,
-            m.mean_wob_n / 1e3,
-            m.mean_tob_nm / 1e3,
+            show(Force, m.mean_wob_n, 1),
+            show(Torque, m.mean_tob_nm, 2),
             m.energy_balance_residual
         );
         println!(
-            "  top drive: torque {:.2} kN·m | force {:.1} kN (surface torque and push: the bit's plus the wall friction and damping along the string)",
-            m.mean_top_torque_nm / 1e3,
-            m.mean_top_force_n / 1e3
+            "  top drive: torque {} | force {} (surface torque and push: the bit's plus the wall friction and damping along the string)",
+            show(Torque, m.mean_top_torque_nm, 2),
+            show(Force, m.mean_top_force_n, 1)
         );
         if let TopDrive::Autodriller(ad) = top {
             let torque = match ad.torque_limit_at(s.operating_point.omega_rad_s) {
                 Some(l) => format!(
-                    "{:.1} % at the torque limit ({:.2} kN·m{})",
+                    "{:.1} % at the torque limit ({}{})",
                     100.0 * m.torque_limit_fraction,
-                    l / 1e3,
+                    show(Torque, l, 2),
                     match ad.power_limit {
                         Some(p) => format!(
-                            "; the {:.1} kW rating gives {:.2} kN·m at {:.1} rpm",
-                            p / 1e3,
-                            p / s.operating_point.omega_rad_s / 1e3,
+                            "; the {} rating gives {} at {:.1} rpm",
+                            show(Power, p, 1),
+                            show(Torque, p / s.operating_point.omega_rad_s, 2),
                             s.operating_point.omega_rpm
                         ),
                         None => String::new(),
@@ -574,14 +594,14 @@ fn print_summary(
                 None => "no torque limit".into(),
             };
             println!(
-                "  autodriller: ROP / V0 = {:.3} | {:.1} % of the time at the WOB limit ({:.1} kN) | {torque}",
+                "  autodriller: ROP / V0 = {:.3} | {:.1} % of the time at the WOB limit ({}) | {torque}",
                 m.rop_set_point_ratio,
                 100.0 * m.wob_limit_fraction,
-                ad.wob_limit / 1e3
+                show(Force, ad.wob_limit, 1)
             );
         }
-        println!("  {}", integrity_line(m));
-        if let Some(w) = yield_warning(m) {
+        println!("  {}", integrity_line(m, u));
+        if let Some(w) = yield_warning(m, u) {
             eprintln!("{w}");
         }
         // The ratio is the rate law's slope at the feed the bit drills (V0, or the mean ROP of a
@@ -613,11 +633,11 @@ fn print_summary(
             ci["mean_top_torque_nm"],
         );
         println!(
-            "  95 % batch-means intervals: ROP ± {:.3} m/h | stick ± {:.1} % | TOB ± {:.3} kN·m | top torque ± {:.3} kN·m",
-            rop.half_width,
+            "  95 % batch-means intervals: ROP ± {} | stick ± {:.1} % | TOB ± {} | top torque ± {}",
+            show_metric("m/h", rop.half_width, 3),
             100.0 * stick.half_width,
-            tob.half_width / 1e3,
-            top.half_width / 1e3
+            show(Torque, tob.half_width, 3),
+            show(Torque, top.half_width, 3)
         );
     }
     match s.steady_state {
@@ -635,11 +655,14 @@ fn print_summary(
 }
 
 /// The string's integrity in one line: peak von Mises stress, fatigue, buckling, each with where.
-fn integrity_line(m: &crate::metrics::Metrics) -> String {
+fn integrity_line(m: &crate::metrics::Metrics, u: UnitSystem) -> String {
+    let at = |x: f64| format!("{:.2} {}", u.of(Position, x), u.unit(Position));
     let fatigue = if m.fatigue_damage_per_h > 0.0 {
         format!(
-            "fatigue {:.3e}/h at {:.2} m (life {:.3e} h)",
-            m.fatigue_damage_per_h, m.fatigue_worst_at_m, m.fatigue_life_h
+            "fatigue {:.3e}/h at {} (life {:.3e} h)",
+            m.fatigue_damage_per_h,
+            at(m.fatigue_worst_at_m),
+            m.fatigue_life_h
         )
     } else if m.fatigue_damage_per_h == 0.0 {
         "fatigue: no damage (every range below the endurance limit)".to_string()
@@ -653,24 +676,27 @@ fn integrity_line(m: &crate::metrics::Metrics) -> String {
         String::new()
     };
     format!(
-        "von Mises {:.1} MPa at {:.2} m{safety} | {fatigue} | compression {:.1} % of sinusoidal buckling at {:.2} m",
-        m.max_von_mises_pa / 1e6,
-        m.max_von_mises_at_m,
+        "von Mises {:.1} {} at {}{safety} | {fatigue} | compression {:.1} % of sinusoidal buckling at {}",
+        u.of(Stress, m.max_von_mises_pa),
+        u.unit(Stress),
+        at(m.max_von_mises_at_m),
         100.0 * m.buckling_utilization,
-        m.buckling_at_m
+        at(m.buckling_at_m)
     )
 }
 
 /// A warning when the peak von Mises stress reaches the yield strength (`von_mises_utilization`
 /// ≥ 1); none without a yield strength.
-fn yield_warning(m: &crate::metrics::Metrics) -> Option<String> {
+fn yield_warning(m: &crate::metrics::Metrics, u: UnitSystem) -> Option<String> {
     (m.von_mises_utilization >= 1.0).then(|| {
         format!(
-            "warning: the peak von Mises stress, {:.1} MPa at {:.2} m, reaches the yield strength \
+            "warning: the peak von Mises stress, {:.1} {} at {:.2} {}, reaches the yield strength \
              (model.pipe.yield_strength; von_mises_utilization {:.3}): the string yields there, \
              beyond what this elastic model describes",
-            m.max_von_mises_pa / 1e6,
-            m.max_von_mises_at_m,
+            u.of(Stress, m.max_von_mises_pa),
+            u.unit(Stress),
+            u.of(Position, m.max_von_mises_at_m),
+            u.unit(Position),
             m.von_mises_utilization
         )
     })

@@ -4,6 +4,7 @@ use super::study;
 use crate::problem::Problem;
 use crate::report::{self, SolutionJson, WorkJson};
 use crate::solve::{self, NumericalCheck, SolveOutcome};
+use crate::units::UnitSystem;
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -30,6 +31,7 @@ pub fn solve_and_report(
     resume: bool,
     quiet: bool,
     print: bool,
+    units: UnitSystem,
 ) -> anyhow::Result<SolveOutcome> {
     let clock = Instant::now();
     let cache = study::open_cache(out, resume)?;
@@ -80,38 +82,18 @@ pub fn solve_and_report(
         None => None,
     };
     let work = WorkJson::of_fidelities(&ev, explore_ev.as_ref(), clock.elapsed().as_secs_f64());
-    write_report(
-        problem,
-        problem_file,
-        out,
-        &outcome,
-        &ev.samples,
-        work,
-        check.as_ref(),
-    )?;
+    // The report: solution.json (SI), evaluations.csv and the plots (in `units`).
+    let json = SolutionJson::of(problem, problem_file, &outcome, work, check.as_ref());
+    report::write_json_atomic(&out.join("solution.json"), &json)?;
+    report::write_evaluations_csv(out, problem, &ev.samples, &outcome.evaluations, units)?;
+    super::study_plots::solve_plots(problem, out, &outcome, units)?;
     if print {
-        print_summary(problem, out, &outcome, &ev, explore_ev.as_ref());
+        print_summary(problem, out, &outcome, &ev, explore_ev.as_ref(), units);
         if let Some(c) = &check {
-            print_check(c);
+            print_check(c, units);
         }
     }
     Ok(outcome)
-}
-
-fn write_report(
-    problem: &Problem,
-    problem_file: &Path,
-    out: &Path,
-    outcome: &SolveOutcome,
-    samples: &crate::stats::SampleSet,
-    work: WorkJson,
-    check: Option<&NumericalCheck>,
-) -> anyhow::Result<()> {
-    let json = SolutionJson::of(problem, problem_file, outcome, work, check);
-    report::write_json_atomic(&out.join("solution.json"), &json)?;
-    report::write_evaluations_csv(out, problem, samples, &outcome.evaluations)?;
-    super::study_plots::solve_plots(problem, out, outcome)?;
-    Ok(())
 }
 
 fn print_summary(
@@ -120,8 +102,10 @@ fn print_summary(
     outcome: &SolveOutcome,
     ev: &crate::study::RobustEvaluator,
     explore: Option<&crate::study::RobustEvaluator>,
+    units: UnitSystem,
 ) {
     use std::sync::atomic::Ordering::Relaxed;
+    let t = study::TableUnits::new(units, problem.study.quantity);
     let work = |ev: &crate::study::RobustEvaluator| {
         format!(
             "{} run, {} from the cache",
@@ -143,9 +127,9 @@ fn print_summary(
     match &outcome.confirmation {
         Some(c) => {
             println!("  explore fidelity: {}", c.explore.describe());
-            study::print_fidelity_table(&outcome.evaluations);
+            study::print_fidelity_table(&outcome.evaluations, &t);
         }
-        None => study::print_table(&outcome.evaluations),
+        None => study::print_table(&outcome.evaluations, &t),
     }
     let label = if outcome.status.is_optimum() {
         "optimum".to_string()
@@ -157,7 +141,7 @@ fn print_summary(
     };
     let held_by = || {
         if let (Some(b), Some(k)) = (&outcome.best, &problem.study.constraints) {
-            study::print_held_by(k, b, &outcome.evaluations);
+            study::print_held_by(k, b, &outcome.evaluations, units);
         }
         if let Some(b) = &outcome.best {
             for w in crate::solve::warnings(b, &problem.study.metrics_named()) {
@@ -166,7 +150,12 @@ fn print_summary(
         }
     };
     let Some(c) = &outcome.confirmation else {
-        study::print_best(outcome.best.as_ref(), &label, "no feasible point was found");
+        study::print_best(
+            outcome.best.as_ref(),
+            &label,
+            "no feasible point was found",
+            &t,
+        );
         held_by();
         println!("  results in {}", out.display());
         return;
@@ -175,12 +164,13 @@ fn print_summary(
         outcome.best.as_ref(),
         &format!("{label} (full fidelity)"),
         "no confirmed candidate is feasible at full fidelity",
+        &t,
     );
     held_by();
     match outcome.best.as_ref().map(|b| c.explore_of(b)) {
         Some(Some(x)) => println!(
             "  the same point at the explore fidelity: score {:.3} ({})",
-            x.objective.unwrap_or(f64::NAN),
+            t.score.1 * x.objective.unwrap_or(f64::NAN),
             crate::units::count(x.samples_used, "sample")
         ),
         Some(None) => println!(
@@ -191,7 +181,7 @@ fn print_summary(
     println!("  results in {}", out.display());
 }
 
-fn print_check(c: &NumericalCheck) {
+fn print_check(c: &NumericalCheck, units: UnitSystem) {
     let unused_moved: Vec<&str> = c
         .metrics
         .iter()
@@ -218,8 +208,8 @@ fn print_check(c: &NumericalCheck) {
         "metric", "unit", "nominal", "refined", "change", "limit", "used", "sample std dev"
     );
     for (key, m) in &c.metrics {
-        // In the driller's units of the rest of the terminal (kN, kN·m, MPa, m/h, %).
-        let d = crate::report::MetricDisplay::of(key);
+        // In the units of the rest of the terminal (kN, kN·m, MPa, m/h, % or their field units).
+        let d = crate::report::MetricDisplay::of_in(key, units);
         let show = |si: f64| super::verify::significant(d.value(si));
         println!(
             "  {key:<22} {:>7} {:>12} {:>12} {:>8.2}% {:>5.0}% {:>5} {:>14}",
@@ -234,7 +224,7 @@ fn print_check(c: &NumericalCheck) {
     }
 }
 
-pub fn run(args: &SolveArgs) -> anyhow::Result<()> {
+pub fn run(args: &SolveArgs, units: UnitSystem) -> anyhow::Result<()> {
     let mut problem = Problem::load(&args.problem)?;
     if let Some(w) = super::simulate::depth_of_cut_warning(&problem.model) {
         eprintln!("{w}");
@@ -249,6 +239,7 @@ pub fn run(args: &SolveArgs) -> anyhow::Result<()> {
         args.run.resume,
         args.run.quiet,
         true,
+        units,
     )?;
     anyhow::ensure!(
         outcome.best.is_some(),

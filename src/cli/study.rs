@@ -5,6 +5,7 @@
 use crate::cache::EvalCache;
 use crate::problem::Problem;
 use crate::study::{PointEvaluation, RobustEvaluator};
+use crate::units::UnitSystem;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -196,19 +197,50 @@ pub fn explore_evaluator<'a>(
         .with_fidelity(crate::study::Fidelity::Explore))
 }
 
+/// How the study's terminal tables show numbers: the unit system, and the unit of the score
+/// (that of the study's quantity: m/h or ft/h for ROP, none for efficiency; risk weights convert
+/// every penalty into it, so the score converts as the quantity does).
+#[derive(Debug, Clone, Copy)]
+pub struct TableUnits {
+    pub units: UnitSystem,
+    /// The score's unit ("" for a pure number) and the factor from the score's metric unit.
+    pub score: (&'static str, f64),
+}
+
+impl TableUnits {
+    /// The table of a study whose score is a statistic of `quantity`, in `units`.
+    pub fn new(units: UnitSystem, quantity: crate::problem::study::Quantity) -> Self {
+        let metric = crate::report::MetricDisplay::of(quantity.metric()).unit;
+        TableUnits {
+            units,
+            score: units.convert_metric(metric),
+        }
+    }
+
+    /// `value`, given in the metric unit `unit` ("m/h", "kN"), in this table's unit.
+    fn of(&self, unit: &'static str, value: f64) -> f64 {
+        self.units.from_metric(unit, value).1
+    }
+
+    /// The unit of this table for the metric unit `unit`.
+    fn unit(&self, unit: &'static str) -> &'static str {
+        self.units.convert_metric(unit).0
+    }
+}
+
 /// The terminal table of evaluated points.
-pub fn print_table(points: &[PointEvaluation]) {
-    println!("{}", table_header(kind_of(points)));
+pub fn print_table(points: &[PointEvaluation], t: &TableUnits) {
+    println!("{}", table_header(kind_of(points), t));
     for p in points {
-        println!("{}", table_row(p));
+        println!("{}", table_row(p, t));
     }
 }
 
 /// The terminal table of a multi-fidelity solve: every row marked with its fidelity.
-pub fn print_fidelity_table(points: &[PointEvaluation]) {
-    println!("fidelity {}", table_header(kind_of(points)));
+pub fn print_fidelity_table(points: &[PointEvaluation], t: &TableUnits) {
+    println!("fidelity {}", table_header(kind_of(points), t));
     for p in points {
-        println!("{:<8} {}", p.fidelity.name(), table_row(p));
+        println!("{:<8} {}", p.fidelity.name(), table_row(p, t));
     }
 }
 
@@ -228,17 +260,23 @@ pub fn point_flag(op: &crate::model::OperatingPoint) -> String {
 }
 
 /// The best point's line, or `none` when there is none.
-pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str) {
+pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str, t: &TableUnits) {
+    let (score_unit, score) = t.score;
+    let score_unit = if score_unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {score_unit}")
+    };
     match best {
         Some(b) => println!(
-            "{label}: Ω = {:.1} rpm, {} = {:.2} {}, score {:.3}{} ({})",
+            "{label}: Ω = {:.1} rpm, {} = {:.2} {}, score {:.3}{score_unit}{} ({})",
             b.omega_rpm,
             b.op().kind().symbol(),
-            b.op().shown_set_point(),
-            b.op().kind().unit(),
-            b.objective.unwrap_or(f64::NAN),
+            t.of(b.op().kind().unit(), b.op().shown_set_point()),
+            t.unit(b.op().kind().unit()),
+            score * b.objective.unwrap_or(f64::NAN),
             b.score_half_width
-                .map_or_else(String::new, |h| format!(" ± {h:.3}")),
+                .map_or_else(String::new, |h| format!(" ± {:.3}", score * h)),
             crate::units::count(b.samples_used, "sample")
         ),
         None => println!("{none}"),
@@ -259,6 +297,7 @@ pub fn print_held_by(
     constraints: &crate::problem::study::Constraints,
     best: &PointEvaluation,
     evaluated: &[PointEvaluation],
+    units: UnitSystem,
 ) {
     let activity = crate::solve::activity(constraints, best, evaluated);
     let held: Vec<String> = activity
@@ -266,7 +305,7 @@ pub fn print_held_by(
         .filter(|a| a.at_limit)
         .map(|a| match a.name.strip_prefix("chance.") {
             Some(metric) => {
-                let d = crate::report::MetricDisplay::of(metric);
+                let d = crate::report::MetricDisplay::of(metric).in_system(units);
                 format!(
                     "{} ({} {} {} against {} {}, margin {:.1} %)",
                     a.name,
@@ -308,13 +347,14 @@ pub fn print_held_by(
 }
 
 /// One line of a terminal table for a point.
-pub(super) fn table_row(p: &PointEvaluation) -> String {
+pub(super) fn table_row(p: &PointEvaluation, t: &TableUnits) -> String {
+    let k = t.score.1;
     let score = p
         .objective
-        .map_or_else(|| "   failed".to_string(), |s| format!("{s:9.3}"));
+        .map_or_else(|| "   failed".to_string(), |s| format!("{:9.3}", k * s));
     let half_width = p
         .score_half_width
-        .map_or_else(|| "       -".to_string(), |h| format!("±{h:7.3}"));
+        .map_or_else(|| "       -".to_string(), |h| format!("±{:7.3}", k * h));
     let m = |k: &str| p.mean_metrics.get(k).copied().unwrap_or(f64::NAN);
     // An infeasible or failed point says why (the chance constraint and its estimate, the bound,
     // or the failed sample), as compare.json's `failure` does.
@@ -326,15 +366,15 @@ pub(super) fn table_row(p: &PointEvaluation) -> String {
     format!(
         "{:7.1} {:8.2} {} {} {:4} {:8.3} {:6.2} {:7.2} {:9.1} {:8.1} {feasible}",
         p.omega_rpm,
-        p.op().shown_set_point(),
+        t.of(p.op().kind().unit(), p.op().shown_set_point()),
         score,
         half_width,
         p.samples_used,
-        m("mean_rop_m_per_h"),
+        t.of("m/h", m("mean_rop_m_per_h")),
         m("stick_slip_severity"),
         100.0 * m("stick_fraction"),
         m("impacts_per_s"),
-        m("mean_wob_n") / 1e3,
+        t.of("kN", m("mean_wob_n") / 1e3),
     )
 }
 
@@ -350,13 +390,19 @@ pub(super) fn kind_of(points: &[PointEvaluation]) -> crate::model::SetPoint {
 /// column is the bit's mean WOB, the set-point less what the string's axial damping and wall
 /// drag take); `±`: the half-width of the score's confidence interval (95 %
 /// unless `uncertain.sequential.confidence` says otherwise); `n`: the samples the point used.
-pub(super) fn table_header(kind: crate::model::SetPoint) -> &'static str {
-    match kind {
-        crate::model::SetPoint::Feed => {
-            "    rpm   V0 m/h     score        ±    n  ROP m/h    SSI stick %  impacts/s  WOB kN feasible"
-        }
-        crate::model::SetPoint::Wob => {
-            "    rpm  Wset kN     score        ±    n  ROP m/h    SSI stick %  impacts/s  WOB kN feasible"
-        }
-    }
+/// The score column's header is `score` and its unit.
+pub(super) fn table_header(kind: crate::model::SetPoint, t: &TableUnits) -> String {
+    let set_point = match kind {
+        crate::model::SetPoint::Feed => format!("V0 {}", t.unit("m/h")),
+        crate::model::SetPoint::Wob => format!("Wset {}", t.unit("kN")),
+    };
+    let score = match t.score.0 {
+        "" => "score".to_owned(),
+        unit => format!("score {unit}"),
+    };
+    format!(
+        "    rpm {set_point:>8} {score:>9}        ±    n {:>8}    SSI stick %  impacts/s {:>7} feasible",
+        format!("ROP {}", t.unit("m/h")),
+        format!("WOB {}", t.unit("kN")),
+    )
 }

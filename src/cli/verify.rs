@@ -3,6 +3,7 @@
 
 use super::simulate::{PointArgs, point_and_duration};
 use crate::problem::Problem;
+use crate::units::UnitSystem;
 use crate::verify::{self, Refinement, Verdict, VerifyReport, VerifySettings};
 use anyhow::Context;
 use clap::Args;
@@ -49,7 +50,7 @@ pub struct VerifyArgs {
 
 /// Verify, print the table (or JSON) and the verdict; a model not converged is a negative
 /// verdict (exit status 1), not an error.
-pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
+pub fn run(args: &VerifyArgs, units: UnitSystem) -> anyhow::Result<super::Outcome> {
     super::study::start_threads(args.threads)?;
     let problem = Problem::load(&args.problem)?;
     let (op, duration) = point_and_duration(&problem, &args.point)?;
@@ -76,8 +77,8 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
                 .join(", "),
             verify::PERTURBATION,
             op.omega * 60.0 / (2.0 * PI),
-            op.shown_set_point(),
-            op.kind().unit()
+            units.from_metric(op.kind().unit(), op.shown_set_point()).1,
+            units.convert_metric(op.kind().unit()).0
         );
     }
     let quiet = args.quiet;
@@ -114,6 +115,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<super::Outcome> {
             &settings,
             &refinements,
             problem.model.stiffness_damping == 0.0,
+            units,
         );
     }
     if args.json {
@@ -202,6 +204,7 @@ fn print_table(
     s: &VerifySettings,
     refinements: &[Refinement],
     undamped_waves: bool,
+    units: UnitSystem,
 ) {
     println!(
         "analysis window {:.3}–{:.3} s, {:.2} revolutions (the window refinement: to {:.3} s)\nbasis {}\nrefined basis {}\nbit_damping_ratio {:.3} (the bit's negative damping / the pipe's torsional impedance{})",
@@ -245,8 +248,8 @@ fn print_table(
     println!(" {:>9} {:>6}  verdict", "max chg", "limit");
     // The perturbed run is the last column; its change is not in "max chg".
     for (key, v) in &r.metrics {
-        // In the driller's units of the rest of the terminal (kN, kN·m, MPa, m/h, %).
-        let d = crate::report::MetricDisplay::of(key);
+        // In the units of the rest of the terminal (kN, kN·m, MPa, m/h, % or their field units).
+        let d = crate::report::MetricDisplay::of_in(key, units);
         print!(
             "{key:<22} {:>7} {:>12}",
             d.unit,

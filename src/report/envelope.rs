@@ -11,6 +11,7 @@ use crate::sim::StressEnvelope;
 use super::atomic::write_atomic;
 use super::plots::{Panel, PlotError, plot_panels_over};
 use super::units::operating_point_text;
+use crate::units::{Shown, UnitSystem};
 
 /// The columns of `stress_envelope.csv`: name and values.
 fn columns(e: &StressEnvelope) -> [(&'static str, &[f64]); 9] {
@@ -70,20 +71,24 @@ pub fn write_envelope_csv(path: &Path, e: &StressEnvelope) -> io::Result<()> {
     write_atomic(path, envelope_csv(e).as_bytes())
 }
 
-/// `stress_envelope.svg`: the largest and the mean von Mises stress [MPa], the largest
-/// compression [kN] with the sinusoidal buckling load dashed, and the fatigue damage rate [1/h],
-/// against x [m], for a run at `op`.
+/// `stress_envelope.svg`: the largest and the mean von Mises stress [MPa or psi], the largest
+/// compression [kN or klbf] with the sinusoidal buckling load dashed, and the fatigue damage rate
+/// [1/h], against x [m or ft], for a run at `op`, in `units`.
 pub fn plot_stress_envelope(
     e: &StressEnvelope,
     op: &OperatingPoint,
+    units: UnitSystem,
     path: &Path,
 ) -> Result<(), PlotError> {
+    let (stress_unit, stress) = units.unit_and_factor(Shown::Stress);
+    let (force_unit, force) = units.unit_and_factor(Shown::Force);
+    let (at_unit, at) = units.unit_and_factor(Shown::Position);
     let buckling = e.buckling.map(|b| {
         (
-            b.sinusoidal * 1e-3,
+            b.sinusoidal * force,
             format!(
-                "sinusoidal buckling load {:.1} kN (Dawson & Paslay)",
-                b.sinusoidal * 1e-3
+                "sinusoidal buckling load {:.1} {force_unit} (Dawson & Paslay)",
+                b.sinusoidal * force
             ),
         )
     });
@@ -91,7 +96,14 @@ pub fn plot_stress_envelope(
     let fatigue_caption = format!("Fatigue damage rate of the worst fibre (Miner, {curve})");
     // A string of sections says where each is, under the first panel.
     let spans: Vec<String> = (e.sections.iter())
-        .map(|s| format!("{} {:.0}-{:.0} m", s.name, s.from_m, s.to_m))
+        .map(|s| {
+            format!(
+                "{} {:.0}-{:.0} {at_unit}",
+                s.name,
+                at * s.from_m,
+                at * s.to_m
+            )
+        })
         .collect();
     let stress_caption = if spans.is_empty() {
         "Largest von Mises stress at the outer fibre".to_string()
@@ -101,31 +113,36 @@ pub fn plot_stress_envelope(
             spans.join(", ")
         )
     };
+    // The abscissa in its unit (metric: the positions themselves).
+    let x: Vec<f64> = e.position_m.iter().map(|x| at * x).collect();
     plot_panels_over(
         path,
-        &format!("Stresses along the string, {}", operating_point_text(op)),
-        &e.position_m,
-        "x from the top drive [m]",
+        &format!(
+            "Stresses along the string, {}",
+            operating_point_text(op, units)
+        ),
+        &x,
+        &format!("x from the top drive [{at_unit}]"),
         &[
             Panel {
                 caption: &stress_caption,
-                y_label: "max \u{3c3}_vM [MPa]",
+                y_label: &format!("max \u{3c3}_vM [{stress_unit}]"),
                 y: &e.max_von_mises_pa,
-                scale: 1e-6,
+                scale: stress,
                 reference: None,
             },
             Panel {
                 caption: "Time mean of the von Mises stress",
-                y_label: "mean \u{3c3}_vM [MPa]",
+                y_label: &format!("mean \u{3c3}_vM [{stress_unit}]"),
                 y: &e.mean_von_mises_pa,
-                scale: 1e-6,
+                scale: stress,
                 reference: None,
             },
             Panel {
                 caption: "Largest compression",
-                y_label: "compression [kN]",
+                y_label: &format!("compression [{force_unit}]"),
                 y: &e.max_compression_n,
-                scale: 1e-3,
+                scale: force,
                 reference: buckling.as_ref().map(|(v, l)| (*v, l.as_str())),
             },
             Panel {
@@ -185,8 +202,21 @@ mod tests {
             v0: 1e-3,
             wob: 0.0,
         };
-        plot_stress_envelope(&e, &op, &dir.path().join("e.svg")).unwrap();
+        plot_stress_envelope(&e, &op, UnitSystem::Metric, &dir.path().join("e.svg")).unwrap();
         let svg = std::fs::read_to_string(dir.path().join("e.svg")).unwrap();
         assert!(svg.contains("x from the top drive [m]") && svg.contains("damage [1/h]"));
+        assert!(svg.contains("max \u{3c3}_vM [MPa]") && svg.contains("compression [kN]"));
+        // In field units: feet along the string, psi and klbf; 300 MPa = 43 511 psi at the top.
+        plot_stress_envelope(&e, &op, UnitSystem::Field, &dir.path().join("f.svg")).unwrap();
+        let svg = std::fs::read_to_string(dir.path().join("f.svg")).unwrap();
+        for text in [
+            "x from the top drive [ft]",
+            "max \u{3c3}_vM [psi]",
+            "compression [klbf]",
+            "V0 = 11.81 ft/h",
+        ] {
+            assert!(svg.contains(text), "missing {text:?}");
+        }
+        assert!(!svg.contains("MPa") && !svg.contains("[m]"));
     }
 }

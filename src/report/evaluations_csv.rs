@@ -18,28 +18,30 @@
 //! evaluator's own draw (`RobustEvaluator::samples`), each checked against the sample's seed.
 
 use crate::metrics::METRICS;
+use crate::problem::Problem;
 use crate::problem::study::Quantity;
-use crate::problem::{Dimension, Problem};
 use crate::stats::SampleSet;
 use crate::study::{PointEvaluation, SampleOutcome};
+use crate::units::UnitSystem;
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// The header of a metric's column and the factor from the metric's value (`summary.json`) to
-/// the column's unit: the key without its SI suffix, and the driller's unit of its dimension
-/// (`mean_wob_n` → `mean_wob [kN]`, 1e-3), or the unit the key names when it is not SI
-/// (`mean_rop_m_per_h` → `mean_rop [m/h]`, 1; from the metric catalogue).
-/// `mean_rop_m_s` keeps its key (`mean_rop_m_s [m/s]`): the same ROP as `mean_rop`, in SI.
-pub fn metric_column(key: &str) -> (String, f64) {
+/// the column's unit: the key without its SI suffix, and the unit of its dimension in `units`
+/// (`mean_wob_n` → `mean_wob [kN]`, 1e-3, or `mean_wob [klbf]`), or the unit the key names when
+/// it is not SI (`mean_rop_m_per_h` → `mean_rop [m/h]`, 1, or `mean_rop [ft/h]`; from the metric
+/// catalogue). `mean_rop_m_s` keeps its key (`mean_rop_m_s [m/s]`): the same ROP as `mean_rop`,
+/// in SI.
+pub fn metric_column(key: &str, units: UnitSystem) -> (String, f64) {
     if key == "mean_rop_m_s" {
         return ("mean_rop_m_s [m/s]".into(), 1.0);
     }
     let (unit, scale) = match crate::metrics::catalogue::find(key) {
         Some(spec) => match spec.own_unit {
-            Some(own) => (own, 1.0),
-            None => driller_unit(spec.dimension),
+            Some(own) => units.convert_metric(own),
+            None => units.for_dimension(spec.dimension),
         },
-        None => driller_unit(Dimension::Dimensionless),
+        None => ("1", 1.0),
     };
     let base = ["_m_per_h", "_per_h", "_nm", "_ns", "_pa", "_n", "_m", "_h"]
         .iter()
@@ -48,62 +50,55 @@ pub fn metric_column(key: &str) -> (String, f64) {
     (format!("{base} [{unit}]"), scale)
 }
 
-/// The unit a value of `dim` is shown in and the factor from SI to it: rpm, m/h, kN, kN·m, MPa,
-/// kN·s for the dimensions the terminal shows so; the SI unit otherwise (`1` for a pure number).
-pub fn driller_unit(dim: Dimension) -> (&'static str, f64) {
-    match dim {
-        Dimension::AngularVelocity => ("rpm", crate::units::RPM_PER_RAD_S),
-        Dimension::Velocity => ("m/h", crate::units::M_PER_H_PER_M_PER_S),
-        Dimension::Force => ("kN", 1e-3),
-        Dimension::Torque => ("kN·m", 1e-3),
-        Dimension::Pressure => ("MPa", 1e-6),
-        Dimension::Impulse => ("kN·s", 1e-3),
-        Dimension::Power => ("kW", 1e-3),
-        Dimension::Dimensionless => ("1", 1.0),
-        other => (other.si_unit(), 1.0),
-    }
-}
-
 /// The CSV text of `points` (see the module documentation).
 pub fn evaluations_csv<'a>(
     problem: &Problem,
     samples: &SampleSet,
     points: impl IntoIterator<Item = &'a PointEvaluation>,
+    units: UnitSystem,
 ) -> String {
     let study = &problem.study;
     let params: Vec<(String, f64)> = study
         .uncertain
         .iter()
         .map(|u| {
-            let (unit, scale) = driller_unit(u.key.spec().dimension);
+            let (unit, scale) = units.for_dimension(u.key.spec().dimension);
             (format!("{} [{unit}]", u.key.name()), scale)
         })
         .collect();
-    let metrics: Vec<(String, f64)> = METRICS.iter().map(|s| metric_column(s.key)).collect();
+    let metrics: Vec<(String, f64)> = (METRICS.iter())
+        .map(|s| metric_column(s.key, units))
+        .collect();
 
     // The second column is the problem's set-point: V0, or a hook load's WOB.
     let kind = problem.model.top.set_point();
-    let mut out = format!("omega [rpm],{} [{}],sample", kind.key(), kind.unit());
+    let (set_point_unit, set_point_scale) = units.convert_metric(kind.unit());
+    let mut out = format!("omega [rpm],{} [{set_point_unit}],sample", kind.key());
     for (header, _) in params.iter().chain(&metrics) {
         out.push(',');
         out.push_str(header);
     }
-    let score_unit = match study.quantity {
-        Quantity::Rop => "m/h",
-        Quantity::Efficiency => "1",
+    let (score_unit, score_scale) = match study.quantity {
+        Quantity::Rop => units.convert_metric("m/h"),
+        Quantity::Efficiency => ("1", 1.0),
     };
     let _ = writeln!(out, ",score [{score_unit}],feasible,failure,fidelity");
     for p in points {
-        let score = p.objective.map(number).unwrap_or_default();
+        let score = (p.objective)
+            .map(|s| number(score_scale * s))
+            .unwrap_or_default();
         for s in &p.samples {
             let _ = write!(
                 out,
                 "{},{},{}",
                 number(p.omega_rpm),
-                number(match p.set_point {
-                    crate::model::SetPointValue::Feed { v0_m_per_h, .. } => v0_m_per_h,
-                    crate::model::SetPointValue::Wob { wob_kn, .. } => wob_kn,
-                }),
+                number(
+                    set_point_scale
+                        * match p.set_point {
+                            crate::model::SetPointValue::Feed { v0_m_per_h, .. } => v0_m_per_h,
+                            crate::model::SetPointValue::Wob { wob_kn, .. } => wob_kn,
+                        }
+                ),
                 s.sample
             );
             // The values this sample was evaluated with (its seed says it is the same draw).
@@ -146,8 +141,9 @@ pub fn write_evaluations_csv<'a>(
     problem: &Problem,
     samples: &SampleSet,
     points: impl IntoIterator<Item = &'a PointEvaluation>,
+    units: UnitSystem,
 ) -> std::io::Result<()> {
-    let text = evaluations_csv(problem, samples, points);
+    let text = evaluations_csv(problem, samples, points, units);
     super::write_atomic(&dir.join("evaluations.csv"), text.as_bytes())
 }
 
@@ -265,7 +261,7 @@ cov = 0.1
         // The evaluator's draw: the problem's law, 2 samples, seed 7.
         let drawn = SampleSet::draw_or_nominal(&[problem.study.uncertain[0].law], 2, 7);
         let p = point(&drawn);
-        let text = evaluations_csv(&problem, &drawn, [&p]);
+        let text = evaluations_csv(&problem, &drawn, [&p], UnitSystem::Metric);
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 3, "{text}");
 
@@ -325,5 +321,43 @@ cov = 0.1
         assert!(row[4..4 + METRICS.len()].iter().all(|c| c.is_empty()));
         assert_eq!(row[4 + METRICS.len()..], ["", "false", ""]);
         assert_eq!(reason, "step collapsed, at t = 0.5 s\",explore");
+    }
+
+    #[test]
+    fn field_units_convert_every_column_with_a_unit() {
+        let problem = Problem::from_toml(TOML, Path::new("p.toml")).unwrap();
+        let drawn = SampleSet::draw_or_nominal(&[problem.study.uncertain[0].law], 2, 7);
+        let p = point(&drawn);
+        let text = evaluations_csv(&problem, &drawn, [&p], UnitSystem::Field);
+        let lines: Vec<&str> = text.lines().collect();
+        let header: Vec<&str> = lines[0].split(',').collect();
+        assert_eq!(
+            header[..4],
+            [
+                "omega [rpm]",
+                "v0 [ft/h]",
+                "sample",
+                "model.bit.limit_force [klbf]"
+            ]
+        );
+        assert!(
+            !lines[0].contains("[m/h]") && !lines[0].contains("[kN") && !lines[0].contains("MPa")
+        );
+        let row: Vec<&str> = lines[1].split(',').collect();
+        let cell = |key: &str| row[header.iter().position(|h| *h == key).unwrap()];
+        // 12 m/h = 39.37007874 ft/h (0.3048 m per ft, exact); 12.25 m/h = 40.19028871 ft/h.
+        assert_eq!(row[..3], ["90", "39.37007874", "0"]);
+        assert_eq!(cell("mean_rop [ft/h]"), "40.19028871");
+        // 0.5 N = 0.0001124044715 klbf; 0.5 Pa = 7.251886887e-5 psi; 0.5 m = 1.640419948 ft.
+        assert_eq!(cell("mean_wob [klbf]"), "0.0001124044715");
+        assert_eq!(cell("max_von_mises [psi]"), "0.00007251886887");
+        assert_eq!(cell("max_von_mises_at [ft]"), "1.640419948");
+        // Shares and hours as they are; the SI twin of the ROP stays SI.
+        assert_eq!(cell("stick_fraction [1]"), "0.5");
+        assert_eq!(cell("fatigue_life [h]"), "0.5");
+        assert!(header.contains(&"mean_rop_m_s [m/s]"));
+        let gamma_klbf: f64 = row[3].parse().unwrap();
+        let expected = drawn.samples[0].values[0] / 4_448.221_615_260_5;
+        assert!((gamma_klbf - expected).abs() <= 1e-9 * expected);
     }
 }

@@ -46,8 +46,8 @@ pub use study_json::{
     ProblemRecord, SolutionJson, StudyHeader, WorkJson,
 };
 pub use study_plots::{
-    ConstraintLine, EvaluatedPoint, Mark, MarkKind, MetricRow, OverlayRun, Region, StarredPoint,
-    plot_bit_speed_overlay, plot_heatmap, plot_metric_samples, plot_optimizer_path,
+    ConstraintLine, EvaluatedPoint, Mark, MarkKind, MetricRow, OverlayRun, Region, SetPointAxis,
+    StarredPoint, plot_bit_speed_overlay, plot_heatmap, plot_metric_samples, plot_optimizer_path,
 };
 pub use summary::{RunStatus, SummaryJson};
 pub use units::{

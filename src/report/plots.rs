@@ -30,7 +30,8 @@ use super::axes::{
     PLOT_BUCKETS, TIME_LAYOUT, axis_range, decimate_min_max, draw_legend, draw_level,
     titled_figure, xy_chart,
 };
-use super::units::{M_PER_H_PER_M_PER_S, REV_PER_RAD, RPM_PER_RAD_S, operating_point_text, short};
+use super::units::{REV_PER_RAD, operating_point_text, short};
+use crate::units::{Shown, UnitSystem};
 
 /// Image width, px.
 const WIDTH: u32 = 1000;
@@ -95,14 +96,15 @@ pub struct Panel<'a> {
     pub reference: Option<(f64, &'a str)>,
 }
 
-/// Bit displacement u(L) \[m\] and bit velocity u̇(L) \[m/h\] against t \[s\] (paper Fig. 3) of a
-/// run at `op` (SI), with the imposed V0 as a reference line.
+/// Bit displacement u(L) \[m or ft\] and bit velocity u̇(L) \[m/h or ft/h\] against t \[s\]
+/// (paper Fig. 3) of a run at `op` (SI), with the imposed V0 as a reference line.
 pub fn plot_bit_axial(
     series: &TimeSeries,
     op: &OperatingPoint,
+    units: UnitSystem,
     path: &Path,
 ) -> Result<(), PlotError> {
-    plot_bit_figure(&BIT_AXIAL, series, op, path)
+    plot_bit_figure(&BIT_AXIAL, series, op, units, path)
 }
 
 /// Bit rotation θx(L) \[rev\] and angular velocity θ̇x(L) \[rpm\] against t \[s\] (paper
@@ -110,14 +112,36 @@ pub fn plot_bit_axial(
 pub fn plot_bit_rotation(
     series: &TimeSeries,
     op: &OperatingPoint,
+    units: UnitSystem,
     path: &Path,
 ) -> Result<(), PlotError> {
-    plot_bit_figure(&BIT_ROTATION, series, op, path)
+    plot_bit_figure(&BIT_ROTATION, series, op, units, path)
 }
 
-/// A panel of a bit figure: caption, y label with unit, the channel, the factor from SI to the
-/// unit of the label.
-type Channel = (&'static str, &'static str, fn(&TimeSeries) -> &[f64], f64);
+/// The unit of a channel: a quantity of the unit system, or a fixed unit with its factor from
+/// SI (revolutions).
+#[derive(Clone, Copy)]
+enum ChannelUnit {
+    System(Shown),
+    Fixed(&'static str, f64),
+}
+
+impl ChannelUnit {
+    fn in_system(self, units: UnitSystem) -> (&'static str, f64) {
+        match self {
+            ChannelUnit::System(q) => units.unit_and_factor(q),
+            ChannelUnit::Fixed(unit, factor) => (unit, factor),
+        }
+    }
+}
+
+/// A panel of a bit figure: caption, symbol of the y axis, the channel, its unit.
+type Channel = (
+    &'static str,
+    &'static str,
+    fn(&TimeSeries) -> &[f64],
+    ChannelUnit,
+);
 
 /// The rate a top imposes at an operating point (SI), none where it imposes none.
 type ImposedRate = fn(&OperatingPoint) -> Option<f64>;
@@ -128,85 +152,90 @@ struct BitFigure {
     title: &'static str,
     coordinate: Channel,
     rate: Channel,
-    /// The imposed rate: its symbol, its value (SI) at an operating point (none where the top
-    /// does not impose it: a hook load's feed), the rate's plot unit.
-    imposed: (&'static str, ImposedRate, &'static str),
+    /// The imposed rate: its symbol and its value (SI) at an operating point (none where the top
+    /// does not impose it: a hook load's feed); shown in the rate's unit.
+    imposed: (&'static str, ImposedRate),
 }
 
 const BIT_AXIAL: BitFigure = BitFigure {
     title: "Drill-bit axial displacement and velocity",
     coordinate: (
         "Bit displacement u(L)",
-        "u(L) [m]",
+        "u(L)",
         |s| &s.bit_displacement,
-        1.0,
+        ChannelUnit::System(Shown::Position),
     ),
     rate: (
         "Bit velocity u\u{307}(L)",
-        "u\u{307}(L) [m/h]",
+        "u\u{307}(L)",
         |s| &s.bit_velocity,
-        M_PER_H_PER_M_PER_S,
+        ChannelUnit::System(Shown::Rop),
     ),
-    imposed: (
-        "V0",
-        |op| (op.kind() == SetPoint::Feed).then_some(op.v0),
-        "m/h",
-    ),
+    imposed: ("V0", |op| (op.kind() == SetPoint::Feed).then_some(op.v0)),
 };
 
 const BIT_ROTATION: BitFigure = BitFigure {
     title: "Drill-bit rotation and angular velocity",
     coordinate: (
         "Bit rotation \u{3b8}x(L)",
-        "\u{3b8}x(L) [rev]",
+        "\u{3b8}x(L)",
         |s| &s.bit_rotation,
-        REV_PER_RAD,
+        ChannelUnit::Fixed("rev", REV_PER_RAD),
     ),
     rate: (
         "Bit angular velocity \u{3b8}\u{307}x(L)",
-        "\u{3b8}\u{307}x(L) [rpm]",
+        "\u{3b8}\u{307}x(L)",
         |s| &s.bit_angular_velocity,
-        RPM_PER_RAD_S,
+        ChannelUnit::System(Shown::RotationSpeed),
     ),
-    imposed: ("\u{3a9}", |op| Some(op.omega), "rpm"),
+    imposed: ("\u{3a9}", |op| Some(op.omega)),
 };
 
 fn plot_bit_figure(
     figure: &BitFigure,
     series: &TimeSeries,
     op: &OperatingPoint,
+    units: UnitSystem,
     path: &Path,
 ) -> Result<(), PlotError> {
-    let (symbol, imposed, unit) = figure.imposed;
-    let value = imposed(op).map(|v| v * figure.rate.3);
-    let label = value.map(|v| format!("{symbol} = {} {unit} (imposed at the top)", short(v)));
+    let (symbol, imposed) = figure.imposed;
+    let (rate_unit, rate_factor) = figure.rate.3.in_system(units);
+    let value = imposed(op).map(|v| v * rate_factor);
+    let label = value.map(|v| format!("{symbol} = {} {rate_unit} (imposed at the top)", short(v)));
     let reference = value.zip(label.as_deref());
-    let panel = |(caption, y_label, y, scale): Channel, reference| Panel {
-        caption,
-        y_label,
-        y: y(series),
-        scale,
-        reference,
-    };
+    let labels = [figure.coordinate, figure.rate].map(|(_, symbol, _, unit)| {
+        let (unit, factor) = unit.in_system(units);
+        (format!("{symbol} [{unit}]"), factor)
+    });
+    let panels = [(figure.coordinate, None), (figure.rate, reference)];
+    let panels: Vec<Panel<'_>> = (panels.iter().zip(&labels))
+        .map(
+            |(((caption, _, y, _), reference), (y_label, scale))| Panel {
+                caption,
+                y_label,
+                y: y(series),
+                scale: *scale,
+                reference: *reference,
+            },
+        )
+        .collect();
     plot_panels(
         path,
-        &format!("{}, {}", figure.title, operating_point_text(op)),
+        &format!("{}, {}", figure.title, operating_point_text(op, units)),
         &series.t,
-        &[
-            panel(figure.coordinate, None),
-            panel(figure.rate, reference),
-        ],
+        &panels,
     )
 }
 
-/// Radial displacement r \[mm\] at probe `probe_index` against t \[s\] of a run at `op` (SI), with
-/// the wall r = `gap` (given in m) dashed (paper Fig. 5). A non-finite or non-positive `gap`
-/// draws no wall.
+/// Radial displacement r \[mm or in\] at probe `probe_index` against t \[s\] of a run at `op`
+/// (SI), with the wall r = `gap` (given in m) dashed (paper Fig. 5). A non-finite or
+/// non-positive `gap` draws no wall.
 pub fn plot_probe_radial(
     series: &TimeSeries,
     probe_index: usize,
     gap: f64,
     op: &OperatingPoint,
+    units: UnitSystem,
     path: &Path,
 ) -> Result<(), PlotError> {
     let count = series.probe_positions.len().min(series.probe_radial.len());
@@ -218,24 +247,33 @@ pub fn plot_probe_radial(
         });
     }
     let x = series.probe_positions[probe_index];
-    let gap_mm = gap * 1e3;
-    let wall_label = format!("wall, r = gap = {gap_mm:.4} mm");
-    let title = format!(
-        "Radial displacement at x = {x} m, {}",
-        operating_point_text(op)
-    );
+    let (size_unit, size_factor) = units.unit_and_factor(Shown::Size);
+    let wall = gap * size_factor;
+    let wall_label = format!("wall, r = gap = {wall:.4} {size_unit}");
+    let title = match units {
+        // The probe's position as the problem gives it (SI).
+        UnitSystem::Metric => format!(
+            "Radial displacement at x = {x} m, {}",
+            operating_point_text(op, units)
+        ),
+        UnitSystem::Field => format!(
+            "Radial displacement at x = {} ft ({x} m), {}",
+            short(units.of(Shown::Position, x)),
+            operating_point_text(op, units)
+        ),
+    };
     let caption = format!("Probe {probe_index}: r = \u{221a}(v\u{b2} + w\u{b2})");
+    let y_label = format!("r [{size_unit}]");
     plot_panels(
         path,
         &title,
         &series.t,
         &[Panel {
             caption: &caption,
-            y_label: "r [mm]",
+            y_label: &y_label,
             y: &series.probe_radial[probe_index],
-            scale: 1e3,
-            reference: (gap_mm.is_finite() && gap_mm > 0.0)
-                .then_some((gap_mm, wall_label.as_str())),
+            scale: size_factor,
+            reference: (wall.is_finite() && wall > 0.0).then_some((wall, wall_label.as_str())),
         }],
     )
 }
@@ -374,7 +412,7 @@ mod tests {
         let s = synthetic_series(100_000);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("fig/bit_axial.svg");
-        plot_bit_axial(&s, &OP, &path).unwrap();
+        plot_bit_axial(&s, &OP, UnitSystem::Metric, &path).unwrap();
         let svg = read(&path);
         assert!(svg.starts_with("<svg"), "{}", &svg[..svg.len().min(200)]);
         assert!(svg.trim_end().ends_with("</svg>"));
@@ -399,12 +437,41 @@ mod tests {
     }
 
     #[test]
+    fn field_units_label_the_axial_plot_in_feet_and_the_radial_one_in_inches() {
+        // The synthetic run: V0 = 0.01 m/s = 36 m/h = 118.11 ft/h.
+        let mut s = synthetic_series(2_000);
+        s.bit_velocity.iter_mut().for_each(|v| *v = OP.v0);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bit_axial.svg");
+        plot_bit_axial(&s, &OP, UnitSystem::Field, &path).unwrap();
+        let svg = read(&path);
+        for text in [
+            "\u{3a9} = 95.49 rpm, V0 = 118.11 ft/h",
+            "u(L) [ft]",
+            "u\u{307}(L) [ft/h]",
+            "V0 = 118.11 ft/h (imposed at the top)",
+        ] {
+            assert!(svg.contains(text), "missing {text:?}");
+        }
+        assert!(!svg.contains("m/h") && !svg.contains("[m]"));
+        // The ticks of a bit at V0 are near 118 ft/h, none near 36 (m/h).
+        let ticks = numbers(&svg);
+        assert!(ticks.iter().any(|&v| (v - 118.1).abs() < 0.6), "{ticks:?}");
+        assert!(!ticks.iter().any(|&v| (v - 36.0).abs() < 0.6), "{ticks:?}");
+        let radial = dir.path().join("radial.svg");
+        plot_probe_radial(&s, 0, GAP, &OP, UnitSystem::Field, &radial).unwrap();
+        let svg = read(&radial);
+        assert!(svg.contains("r [in]"), "no inch axis");
+        assert!(svg.contains(&format!("wall, r = gap = {:.4} in", GAP / 0.0254)));
+    }
+
+    #[test]
     fn a_hook_loads_bit_axial_plot_names_its_wob_and_draws_no_feed_line() {
         let s = synthetic_series(1_000);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("bit_axial.svg");
         let hook = OperatingPoint::hook_load(OP.omega, 50e3);
-        plot_bit_axial(&s, &hook, &path).unwrap();
+        plot_bit_axial(&s, &hook, UnitSystem::Metric, &path).unwrap();
         let svg = read(&path);
         assert!(svg.contains("\u{3a9} = 95.49 rpm, WOB = 50 kN"));
         assert!(!svg.contains("imposed at the top"));
@@ -415,7 +482,7 @@ mod tests {
         let s = synthetic_series(100_000);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("bit_rotation.svg");
-        plot_bit_rotation(&s, &OP, &path).unwrap();
+        plot_bit_rotation(&s, &OP, UnitSystem::Metric, &path).unwrap();
         let svg = read(&path);
         for text in [
             "Drill-bit rotation and angular velocity, \u{3a9} = 95.49 rpm, V0 = 36 m/h",
@@ -455,7 +522,7 @@ mod tests {
             .for_each(|w| *w = OP.omega);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("rotation.svg");
-        plot_bit_rotation(&s, &OP, &path).unwrap();
+        plot_bit_rotation(&s, &OP, UnitSystem::Metric, &path).unwrap();
         let svg = read(&path);
         let ticks = numbers(&svg);
         assert!(ticks.iter().any(|&v| (v - 95.5).abs() < 0.6), "{ticks:?}");
@@ -470,7 +537,7 @@ mod tests {
         let s = synthetic_series(100_000);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("radial.svg");
-        plot_probe_radial(&s, 0, GAP, &OP, &path).unwrap();
+        plot_probe_radial(&s, 0, GAP, &OP, UnitSystem::Metric, &path).unwrap();
         let svg = read(&path);
         assert!(svg.contains(&format!(
             "Radial displacement at x = {PROBE_X} m, \u{3a9} = 95.49 rpm, V0 = 36 m/h"
@@ -482,7 +549,7 @@ mod tests {
         assert!(red_paths > 20, "{red_paths} red strokes");
 
         let no_wall = dir.path().join("radial_no_wall.svg");
-        plot_probe_radial(&s, 0, f64::NAN, &OP, &no_wall).unwrap();
+        plot_probe_radial(&s, 0, f64::NAN, &OP, UnitSystem::Metric, &no_wall).unwrap();
         let svg = read(&no_wall);
         assert!(!svg.contains("wall"));
         assert_eq!(svg.matches("stroke=\"#FF0000\"").count(), 0);
@@ -493,7 +560,7 @@ mod tests {
         let s = synthetic_series(100);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("radial.svg");
-        let err = plot_probe_radial(&s, 1, GAP, &OP, &path).unwrap_err();
+        let err = plot_probe_radial(&s, 1, GAP, &OP, UnitSystem::Metric, &path).unwrap_err();
         assert!(
             matches!(
                 err,
@@ -515,7 +582,7 @@ mod tests {
         s.bit_velocity.pop();
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("axial.svg");
-        let err = plot_bit_axial(&s, &OP, &path).unwrap_err();
+        let err = plot_bit_axial(&s, &OP, UnitSystem::Metric, &path).unwrap_err();
         assert!(
             matches!(
                 err,
@@ -540,7 +607,7 @@ mod tests {
         s.bit_rotation.iter_mut().for_each(|v| *v = f64::NAN);
         let dir = tempfile::tempdir().unwrap();
         let axial = dir.path().join("axial.svg");
-        plot_bit_axial(&s, &OP, &axial).unwrap();
+        plot_bit_axial(&s, &OP, UnitSystem::Metric, &axial).unwrap();
         let svg = read(&axial);
         assert!(svg.contains("Bit velocity"));
         // Both constant curves are drawn with their finite points (3000 minus the 2 skipped): 3000 is below the decimation threshold.
@@ -550,7 +617,7 @@ mod tests {
             "{counts:?}"
         );
         let rotation = dir.path().join("rotation.svg");
-        plot_bit_rotation(&s, &OP, &rotation).unwrap();
+        plot_bit_rotation(&s, &OP, UnitSystem::Metric, &rotation).unwrap();
         assert!(read(&rotation).contains("Bit rotation"));
     }
 }

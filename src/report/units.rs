@@ -5,6 +5,7 @@
 use std::f64::consts::TAU;
 
 use crate::model::OperatingPoint;
+use crate::units::UnitSystem;
 
 pub use crate::units::{M_PER_H_PER_M_PER_S, RPM_PER_RAD_S};
 /// rad → revolutions.
@@ -40,6 +41,22 @@ impl<'a> MetricDisplay<'a> {
         }
     }
 
+    /// The same display in `units`: a metric in a unit of the metric system (kN, m/h, MPa, …)
+    /// shown in that system's unit (klbf, ft/h, psi, …); the rest as it is.
+    pub fn in_system(self, units: UnitSystem) -> Self {
+        let (unit, factor) = units.convert_metric(self.unit);
+        MetricDisplay {
+            unit,
+            scale: factor * self.scale,
+            ..self
+        }
+    }
+
+    /// The display of the metric `key` in `units` ([`Self::of`], then [`Self::in_system`]).
+    pub fn of_in(key: &'a str, units: UnitSystem) -> Self {
+        Self::of(key).in_system(units)
+    }
+
     /// "name [unit]", or the name alone for a dimensionless metric.
     pub fn label(&self) -> String {
         if self.unit.is_empty() {
@@ -55,16 +72,17 @@ impl<'a> MetricDisplay<'a> {
     }
 }
 
-/// "Ω = 60 rpm, V0 = 5 m/h" (a hook load's "Ω = 60 rpm, WOB = 50 kN") for an operating point
-/// given in SI (rad/s, m/s, N), with at most two decimals and no trailing zeros.
-pub fn operating_point_text(op: &OperatingPoint) -> String {
+/// "Ω = 60 rpm, V0 = 5 m/h" (a hook load's "Ω = 60 rpm, WOB = 50 kN"; in field units "V0 =
+/// 16.4 ft/h", "WOB = 11.24 klbf") for an operating point given in SI (rad/s, m/s, N), with at
+/// most two decimals and no trailing zeros.
+pub fn operating_point_text(op: &OperatingPoint, units: UnitSystem) -> String {
     let kind = op.kind();
+    let (unit, value) = units.from_metric(kind.unit(), op.shown_set_point());
     format!(
-        "\u{3a9} = {} rpm, {} = {} {}",
+        "\u{3a9} = {} rpm, {} = {} {unit}",
         short(op.omega * RPM_PER_RAD_S),
         kind.symbol(),
-        short(op.shown_set_point()),
-        kind.unit()
+        short(value),
     )
 }
 
@@ -155,6 +173,28 @@ mod tests {
     }
 
     #[test]
+    fn metrics_convert_to_field_units() {
+        let wob = MetricDisplay::of_in("mean_wob_n", UnitSystem::Field);
+        assert_eq!(wob.label(), "mean WOB [klbf]");
+        // 100 kN = 22.48089 klbf (NIST SP 811).
+        assert!((wob.value(100e3) - 22.480_89).abs() < 1e-5);
+        let rop = MetricDisplay::of_in("mean_rop_m_per_h", UnitSystem::Field);
+        assert_eq!(rop.label(), "mean ROP [ft/h]");
+        assert!((rop.value(10.0) - 32.808_399).abs() < 1e-6);
+        assert_eq!(
+            MetricDisplay::of_in("mse_pa", UnitSystem::Field).unit,
+            "psi"
+        );
+        // Units the two systems share stay as they are.
+        let stick = MetricDisplay::of_in("stick_fraction", UnitSystem::Field);
+        assert_eq!((stick.unit, stick.value(0.35)), ("%", 35.0));
+        assert_eq!(
+            MetricDisplay::of_in("mean_tob_nm", UnitSystem::Metric),
+            MetricDisplay::of("mean_tob_nm")
+        );
+    }
+
+    #[test]
     fn numbers_have_four_significant_digits() {
         assert_eq!(fmt_sig(0.0), "0");
         assert_eq!(fmt_sig(123.456), "123.5");
@@ -172,11 +212,25 @@ mod tests {
             v0: 5.0 / 3600.0,
             wob: 0.0,
         };
-        assert_eq!(operating_point_text(&op), "\u{3a9} = 60 rpm, V0 = 5 m/h");
+        let metric = UnitSystem::Metric;
+        assert_eq!(
+            operating_point_text(&op, metric),
+            "\u{3a9} = 60 rpm, V0 = 5 m/h"
+        );
         let hook = OperatingPoint::hook_load(op.omega, 47_500.0);
         assert_eq!(
-            operating_point_text(&hook),
+            operating_point_text(&hook, metric),
             "\u{3a9} = 60 rpm, WOB = 47.5 kN"
+        );
+        // Field units: 5 m/h = 16.404 ft/h, 47.5 kN = 10.678 klbf.
+        let field = UnitSystem::Field;
+        assert_eq!(
+            operating_point_text(&op, field),
+            "\u{3a9} = 60 rpm, V0 = 16.4 ft/h"
+        );
+        assert_eq!(
+            operating_point_text(&hook, field),
+            "\u{3a9} = 60 rpm, WOB = 10.68 klbf"
         );
         assert_eq!(short(111.111), "111.11");
         assert_eq!(short(2.5), "2.5");

@@ -6,9 +6,11 @@
 
 mod dimension;
 mod range;
+mod system;
 
 pub use dimension::{Dimension, UnitError};
 pub use range::Range;
+pub use system::{Shown, UnitSystem};
 
 /// "1 thread", "2 threads": a count with its noun in the right number (regular English plurals:
 /// the noun plus "s").

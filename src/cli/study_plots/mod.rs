@@ -12,12 +12,13 @@ use crate::problem::Problem;
 use crate::problem::study::{Constraints, Quantity, Study};
 use crate::report::{
     self, ConstraintLine, EvaluatedPoint, Mark, MarkKind, MetricDisplay, MetricRow, OverlayRun,
-    RPM_PER_RAD_S as RPM, Region, StarredPoint, fmt_sig, short,
+    RPM_PER_RAD_S as RPM, Region, SetPointAxis, StarredPoint, fmt_sig, short,
 };
 use crate::sim::RunOutput;
 use crate::solve::{MapOutcome, SolveOutcome};
 use crate::stats::Statistic;
 use crate::study::{PointEvaluation, SampleOutcome};
+use crate::units::UnitSystem;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -29,12 +30,16 @@ const EXTRA_MAP_METRICS: [&str; 3] = ["mean_rop_m_per_h", "stick_slip_severity",
 const BEST_NODE: &str = "best map node (highest score)";
 
 /// The bounds box and linear constraints in plot units: a_Ω Ω + a_V V0 ≤ b with Ω = rpm/RPM and
-/// V0 = m/h / MPH gives (a_Ω/RPM) rpm + (a_V/MPH) m/h ≤ b.
-fn region(c: &Constraints) -> Region {
+/// V0 = m/h / MPH gives (a_Ω/RPM) rpm + (a_V/MPH) m/h ≤ b (the same in ft/h or klbf).
+fn region(c: &Constraints, units: UnitSystem) -> Region {
+    let axis = SetPointAxis {
+        kind: c.kind,
+        units,
+    };
     Region {
         omega_rpm: [c.omega[0] * RPM, c.omega[1] * RPM],
-        set_point: c.set_point.map(|s| c.kind.to_unit(s)),
-        kind: c.kind,
+        set_point: c.set_point.map(|s| axis.of_si(s)),
+        kind: axis,
         lines: c
             .linear
             .iter()
@@ -42,33 +47,42 @@ fn region(c: &Constraints) -> Region {
                 label: l.label.replace('_', " "),
                 omega_coef: l.omega / RPM,
                 // a_s s = (a_s / (unit/SI)) s_unit.
-                set_point_coef: l.set_point / c.kind.to_unit(1.0),
+                set_point_coef: l.set_point / axis.of_si(1.0),
                 upper: l.upper,
             })
             .collect(),
     }
 }
 
-fn evaluated(points: &[PointEvaluation]) -> Vec<EvaluatedPoint> {
+/// The points in plot units; the score in the unit of [`score_label`] (`score`: the factor from
+/// the score's metric unit).
+fn evaluated(points: &[PointEvaluation], units: UnitSystem, score: f64) -> Vec<EvaluatedPoint> {
     points
         .iter()
         .map(|p| EvaluatedPoint {
             omega_rpm: p.omega_rpm,
-            set_point: p.op().shown_set_point(),
-            score: p.objective,
+            set_point: units
+                .from_metric(p.op().kind().unit(), p.op().shown_set_point())
+                .1,
+            score: p.objective.map(|s| score * s),
             feasible: p.feasible,
         })
         .collect()
 }
 
 /// The unit of the score: that of the quantity (risk weights convert into it).
-fn score_label(q: Quantity) -> String {
-    let d = MetricDisplay::of(q.metric());
+fn score_label(q: Quantity, units: UnitSystem) -> String {
+    let d = MetricDisplay::of_in(q.metric(), units);
     if d.unit.is_empty() {
         "robust score".to_owned()
     } else {
         format!("robust score [{}]", d.unit)
     }
+}
+
+/// The factor from the score's metric unit (m/h for ROP) to its unit in `units`.
+fn score_factor(q: Quantity, units: UnitSystem) -> f64 {
+    units.convert_metric(MetricDisplay::of(q.metric()).unit).1
 }
 
 /// `level` ∈ [0, 1] as a percentage, "90 %".
@@ -120,7 +134,7 @@ fn objective_mark(s: &Statistic, value: f64, d: &MetricDisplay, mean: f64) -> Ma
 
 /// One row per metric that matters at `p`: the objective's quantity and risk metrics, the chance
 /// metrics, then a few more; samples and marks in the metric's display unit.
-fn metric_rows(study: &Study, p: &PointEvaluation) -> Vec<MetricRow> {
+fn metric_rows(study: &Study, p: &PointEvaluation, units: UnitSystem) -> Vec<MetricRow> {
     let quantity = study.quantity.metric();
     let chance = study
         .constraints
@@ -134,7 +148,7 @@ fn metric_rows(study: &Study, p: &PointEvaluation) -> Vec<MetricRow> {
     keys.retain(|k| seen.insert(*k));
     keys.into_iter()
         .map(|key| {
-            let d = MetricDisplay::of(key);
+            let d = MetricDisplay::of_in(key, units);
             let samples: Vec<f64> = p
                 .samples
                 .iter()
@@ -176,29 +190,32 @@ fn metric_rows(study: &Study, p: &PointEvaluation) -> Vec<MetricRow> {
         .collect()
 }
 
-pub fn solve_plots(problem: &Problem, out: &Path, o: &SolveOutcome) -> anyhow::Result<()> {
+pub fn solve_plots(
+    problem: &Problem,
+    out: &Path,
+    o: &SolveOutcome,
+    units: UnitSystem,
+) -> anyhow::Result<()> {
     let c = problem
         .study
         .constraints
         .as_ref()
         .expect("solve checked constraints");
+    let region = region(c, units);
+    let axis = region.kind;
     let path: Vec<(f64, f64)> = o
         .path
         .iter()
-        .map(|p| {
-            (
-                p.omega_rad_s * RPM,
-                c.kind.to_unit(p.op().set_point(c.kind)),
-            )
-        })
+        .map(|p| (p.omega_rad_s * RPM, axis.of_si(p.op().set_point(c.kind))))
         .collect();
     let optimum = o
         .best
         .as_ref()
-        .map(|b| (b.omega_rpm, c.kind.to_unit(b.op().set_point(c.kind))));
+        .map(|b| (b.omega_rpm, axis.of_si(b.op().set_point(c.kind))));
+    let score = score_factor(problem.study.quantity, units);
     report::plot_optimizer_path(
-        &region(c),
-        &evaluated(&o.evaluations),
+        &region,
+        &evaluated(&o.evaluations, units, score),
         &path,
         optimum,
         &match o.confirmation {
@@ -217,10 +234,10 @@ pub fn solve_plots(problem: &Problem, out: &Path, o: &SolveOutcome) -> anyhow::R
             &format!(
                 "{}: metrics at the optimum ({}), {}",
                 problem.name,
-                report::operating_point_text(&b.op()),
+                report::operating_point_text(&b.op(), units),
                 crate::units::count(b.samples.len(), "sample")
             ),
-            &metric_rows(&problem.study, b),
+            &metric_rows(&problem.study, b, units),
             &out.join("optimum_metrics.svg"),
         )?;
     }
@@ -239,33 +256,44 @@ fn map_metrics(study: &Study) -> Vec<String> {
     metrics
 }
 
-pub fn map_plots(problem: &Problem, out: &Path, m: &MapOutcome) -> anyhow::Result<()> {
+pub fn map_plots(
+    problem: &Problem,
+    out: &Path,
+    m: &MapOutcome,
+    units: UnitSystem,
+) -> anyhow::Result<()> {
+    let axis = SetPointAxis {
+        kind: m.kind,
+        units,
+    };
     let omega: Vec<f64> = m.omega.iter().map(|w| w * RPM).collect();
-    let set_point: Vec<f64> = m.set_point.iter().map(|&v| m.kind.to_unit(v)).collect();
+    let set_point: Vec<f64> = m.set_point.iter().map(|&v| axis.of_si(v)).collect();
     let best = m.best.as_ref().map(|b| StarredPoint {
         omega_rpm: b.omega_rpm,
-        set_point: m.kind.to_unit(b.op().set_point(m.kind)),
+        set_point: axis.of_si(b.op().set_point(m.kind)),
         label: BEST_NODE.to_owned(),
     });
+    let score = score_factor(problem.study.quantity, units);
     // An infeasible node has a score but is not a candidate: grey, as a failed one (the table
     // and map.json say why).
     let scores: Vec<Option<f64>> = m
         .points
         .iter()
         .map(|p| p.as_ref().filter(|p| p.feasible).and_then(|p| p.objective))
+        .map(|s| s.map(|s| score * s))
         .collect();
     report::plot_heatmap(
         &format!("{}: robust score (higher is better)", problem.name),
-        &score_label(problem.study.quantity),
+        &score_label(problem.study.quantity, units),
         &omega,
         &set_point,
         &scores,
         best.as_ref(),
-        m.kind,
+        axis,
         &out.join("map_objective.svg"),
     )?;
     for name in map_metrics(&problem.study) {
-        let d = MetricDisplay::of(&name);
+        let d = MetricDisplay::of_in(&name, units);
         let values: Vec<Option<f64>> = m
             .points
             .iter()
@@ -282,7 +310,7 @@ pub fn map_plots(problem: &Problem, out: &Path, m: &MapOutcome) -> anyhow::Resul
             &set_point,
             &values,
             best.as_ref(),
-            m.kind,
+            axis,
             &out.join(format!("map_{name}.svg")),
         )?;
     }

@@ -156,7 +156,7 @@ fn texts(svg: &str) -> Vec<&str> {
 fn optimum_metrics_mark_the_objective_statistic_and_the_chance_limits() {
     let problem = problem();
     let p = point(&problem.study, 60.0, 5.0);
-    let rows = metric_rows(&problem.study, &p);
+    let rows = metric_rows(&problem.study, &p, UnitSystem::Metric);
     let labels: Vec<&str> = rows.iter().map(|r| r.label.as_str()).collect();
     assert_eq!(
         labels,
@@ -235,7 +235,7 @@ fn map_plots_name_metrics_with_units_show_constants_and_star_the_best_node() {
     let problem = problem();
     let m = map_4x4(&problem.study);
     let dir = tempfile::tempdir().unwrap();
-    map_plots(&problem, dir.path(), &m).unwrap();
+    map_plots(&problem, dir.path(), &m, UnitSystem::Metric).unwrap();
     let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap();
 
     let objective = read("map_objective.svg");
@@ -284,4 +284,33 @@ fn map_plots_name_metrics_with_units_show_constants_and_star_the_best_node() {
     let rop = read("map_mean_rop_m_per_h.svg");
     assert!(texts(&rop).contains(&"max 20.00") && texts(&rop).contains(&"min 2.000"));
     assert!(!texts(&rop).iter().any(|t| t.starts_with("constant")));
+}
+
+#[test]
+fn map_plots_in_field_units_put_feet_per_hour_and_psi_on_every_axis_and_scale() {
+    let problem = problem();
+    let m = map_4x4(&problem.study);
+    let dir = tempfile::tempdir().unwrap();
+    map_plots(&problem, dir.path(), &m, UnitSystem::Field).unwrap();
+    let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap();
+    let objective = read("map_objective.svg");
+    // 8 m/h = 26.25 ft/h.
+    let caption = "best map node (highest score): \u{3a9} = 66.67 rpm, V0 = 26.25 ft/h";
+    for text in ["robust score [ft/h]", "V0 [ft/h]", caption] {
+        assert!(texts(&objective).contains(&text), "{text:?}");
+    }
+    // The colour bar's top is the best feasible score in ft/h.
+    let score = m.points[8].as_ref().unwrap().objective.unwrap() / 0.3048;
+    let top = texts(&objective)
+        .into_iter()
+        .find_map(|t| t.strip_prefix("max ").map(|x| x.parse::<f64>().unwrap()))
+        .unwrap();
+    assert!((top - score).abs() < 1e-2 * score.abs(), "{top} vs {score}");
+    // 700 MPa = 101 526 psi; 20 m/h = 65.62 ft/h.
+    let mse = texts(&read("map_mse_pa.svg")).join("|");
+    assert!(mse.contains("mechanical specific energy [psi]"), "{mse}");
+    assert!(mse.contains("constant: 1.015e5"), "{mse}");
+    let rop = read("map_mean_rop_m_per_h.svg");
+    assert!(texts(&rop).contains(&"max 65.62") && texts(&rop).contains(&"min 6.562"));
+    assert!(!objective.contains("m/h") && !rop.contains("m/h"));
 }

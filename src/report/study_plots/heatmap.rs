@@ -7,13 +7,13 @@ use plotters::prelude::*;
 use crate::report::axes::axis_range;
 use crate::report::plots::PlotError;
 
-use super::StarredPoint;
 use super::geometry::{cell_edges, is_finite_point};
 use super::side::{LegendEntry, draw_colorbar, draw_legend, draw_star, plane_chart, plane_figure};
 use super::style::{
     Area, DrawResult, HEIGHT, NO_VALUE_CELL, Point, WIDTH, render_and_write, scale_color,
     value_range,
 };
+use super::{SetPointAxis, StarredPoint};
 
 /// Draws `values` over the grid of cell centres `omega_rpm` × `set_point` as filled cells
 /// coloured by value, with a colour bar labelled `value_label` and its range; `None` (or
@@ -32,7 +32,7 @@ pub fn plot_heatmap(
     set_point: &[f64],
     values: &[Option<f64>],
     star: Option<&StarredPoint>,
-    kind: crate::model::SetPoint,
+    kind: SetPointAxis,
     out: &Path,
 ) -> Result<(), PlotError> {
     let expected = omega_rpm.len().checked_mul(set_point.len());
@@ -60,7 +60,7 @@ struct Grid<'a> {
     omega: &'a [f64],
     set_point: &'a [f64],
     values: &'a [Option<f64>],
-    kind: crate::model::SetPoint,
+    kind: SetPointAxis,
 }
 
 fn draw_heatmap(
@@ -183,7 +183,7 @@ mod tests {
             &v0,
             &values,
             Some(&starred(70.0, 15.0)),
-            crate::model::SetPoint::Feed,
+            crate::model::SetPoint::Feed.into(),
             &out,
         )
         .unwrap();
@@ -195,7 +195,7 @@ mod tests {
                 "Robust score over the grid",
                 "score J",
                 OMEGA_LABEL,
-                &set_point_label(crate::model::SetPoint::Feed),
+                &set_point_label(crate::model::SetPoint::Feed.into()),
                 "max 4.000",
                 "min -1.000",
                 "no value (infeasible/failed)",
@@ -239,7 +239,7 @@ mod tests {
             &[1.0, 2.0, 3.0],
             &[Some(1.0); 5],
             None,
-            crate::model::SetPoint::Feed,
+            crate::model::SetPoint::Feed.into(),
             &out,
         )
         .unwrap_err();
@@ -275,7 +275,7 @@ mod tests {
             &[40.0, 60.0, 80.0],
             &[Some(1.0), Some(2.0), Some(3.0), None, Some(0.5), Some(2.5)],
             Some(&star),
-            crate::model::SetPoint::Wob,
+            crate::model::SetPoint::Wob.into(),
             &out,
         )
         .unwrap();
@@ -301,7 +301,7 @@ mod tests {
             &[],
             &[],
             None,
-            crate::model::SetPoint::Feed,
+            crate::model::SetPoint::Feed.into(),
             &out,
         )
         .unwrap();
@@ -316,7 +316,7 @@ mod tests {
             &[3.0],
             &[None, None],
             Some(&starred(9.0, 9.0)),
-            crate::model::SetPoint::Feed,
+            crate::model::SetPoint::Feed.into(),
             &out,
         )
         .unwrap();
@@ -335,7 +335,7 @@ mod tests {
             &[10.0],
             &[Some(2.0), Some(5.0)],
             None,
-            crate::model::SetPoint::Feed,
+            crate::model::SetPoint::Feed.into(),
             &out,
         )
         .unwrap();
@@ -356,7 +356,7 @@ mod tests {
             &[2.0, 20.0],
             &[Some(0.0), Some(0.0), None, Some(0.0), Some(0.0), Some(-0.0)],
             None,
-            crate::model::SetPoint::Feed,
+            crate::model::SetPoint::Feed.into(),
             &out,
         )
         .unwrap();

@@ -29,15 +29,53 @@ pub use metric_samples::{Mark, MarkKind, MetricRow, plot_metric_samples};
 pub use optimizer_path::plot_optimizer_path;
 pub use overlay::{OverlayRun, plot_bit_speed_overlay};
 
+/// The set-point axis of a study plot: which set-point (V0 or a hook load's WOB) and the unit
+/// system it is shown in (m/h or ft/h; kN or klbf).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SetPointAxis {
+    pub kind: crate::model::SetPoint,
+    pub units: crate::units::UnitSystem,
+}
+
+impl SetPointAxis {
+    /// "V0" or "WOB".
+    pub fn symbol(self) -> &'static str {
+        self.kind.symbol()
+    }
+
+    /// The axis' unit: m/h, ft/h, kN or klbf.
+    pub fn unit(self) -> &'static str {
+        self.units.convert_metric(self.kind.unit()).0
+    }
+
+    /// A set-point in SI (m/s or N) in the axis' unit.
+    pub fn of_si(self, si: f64) -> f64 {
+        self.units
+            .from_metric(self.kind.unit(), self.kind.to_unit(si))
+            .1
+    }
+}
+
+/// The axis of `kind` in the metric units (m/h, kN).
+impl From<crate::model::SetPoint> for SetPointAxis {
+    fn from(kind: crate::model::SetPoint) -> Self {
+        SetPointAxis {
+            kind,
+            units: crate::units::UnitSystem::Metric,
+        }
+    }
+}
+
 /// The box of operating points and the linear constraints on them, in plot units.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Region {
     /// Bounds [low, high] of the rotational speed Ω, rpm.
     pub omega_rpm: [f64; 2],
-    /// Bounds [low, high] of the set-point: V0 in m/h, or the WOB in kN under a hook load.
+    /// Bounds [low, high] of the set-point in the unit of `kind`: V0 in m/h (ft/h), or the WOB
+    /// in kN (klbf) under a hook load.
     pub set_point: [f64; 2],
     /// What the set-point axis is.
-    pub kind: crate::model::SetPoint,
+    pub kind: SetPointAxis,
     /// Linear constraints; the feasible set is the box where all hold.
     pub lines: Vec<ConstraintLine>,
 }

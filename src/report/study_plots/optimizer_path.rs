@@ -284,7 +284,7 @@ mod tests {
             &[
                 "Trust-region path",
                 OMEGA_LABEL,
-                &set_point_label(crate::model::SetPoint::Feed),
+                &set_point_label(crate::model::SetPoint::Feed.into()),
                 "torque limit",
                 "min V0/\u{3a9}",
                 "score (higher is better)",
@@ -341,7 +341,7 @@ mod tests {
         let empty = Region {
             omega_rpm: [f64::NAN, 100.0],
             set_point: [5.0, 30.0],
-            kind: crate::model::SetPoint::Feed,
+            kind: crate::model::SetPoint::Feed.into(),
             lines: vec![],
         };
         plot_optimizer_path(&empty, &[], &[], None, "Nothing yet", &out).unwrap();
@@ -398,7 +398,7 @@ mod tests {
         let r = Region {
             omega_rpm: [100.0, 100.0],
             set_point: [10.0, 20.0],
-            kind: crate::model::SetPoint::Feed,
+            kind: crate::model::SetPoint::Feed.into(),
             lines: vec![ConstraintLine {
                 label: "impossible".into(),
                 omega_coef: 0.0,

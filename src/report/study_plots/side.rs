@@ -2,7 +2,7 @@
 //! plane and a side column, the chart with the caption of its starred point, and in the side
 //! column a colour bar with its range (or the value of a constant field) and a hand-drawn legend.
 
-use crate::model::SetPoint;
+use super::SetPointAxis;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
@@ -205,7 +205,7 @@ pub(super) fn plane_chart<'a, 'b>(
     x: (f64, f64),
     y: (f64, f64),
     grid: Option<(f64, f64)>,
-    kind: SetPoint,
+    kind: SetPointAxis,
 ) -> Result<XyChart<'a, 'b>, DrawingAreaErrorKind<std::io::Error>> {
     let layout = Layout {
         margin_right: 20,
@@ -225,7 +225,7 @@ pub(super) fn plane_chart<'a, 'b>(
 
 /// Caption text "`what`: Ω = … rpm, V0 = … m/h" (or "WOB = … kN") for a starred point, or an
 /// empty string.
-pub(super) fn star_caption(what: &str, point: Option<(f64, f64)>, kind: SetPoint) -> String {
+pub(super) fn star_caption(what: &str, point: Option<(f64, f64)>, kind: SetPointAxis) -> String {
     point
         .filter(is_finite_point)
         .map(|(o, v)| {

@@ -2,7 +2,7 @@
 //! the optimum's star, number formatting, and rendering an SVG in memory then writing it
 //! atomically.
 
-use crate::model::SetPoint;
+use super::SetPointAxis;
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -32,7 +32,7 @@ pub(super) const COLORBAR_STEPS: usize = 64;
 pub(super) use crate::report::axes::FONT;
 pub(super) const OMEGA_LABEL: &str = "\u{3a9} [rpm]";
 /// The label of the set-point axis: "V0 [m/h]", or "WOB [kN]" under a hook load.
-pub(super) fn set_point_label(kind: SetPoint) -> String {
+pub(super) fn set_point_label(kind: SetPointAxis) -> String {
     format!("{} [{}]", kind.symbol(), kind.unit())
 }
 

@@ -59,7 +59,7 @@ pub(super) fn region() -> Region {
     Region {
         omega_rpm: [40.0, 160.0],
         set_point: [5.0, 30.0],
-        kind: crate::model::SetPoint::Feed,
+        kind: crate::model::SetPoint::Feed.into(),
         lines: vec![
             ConstraintLine {
                 label: "torque limit".into(),
