@@ -20,7 +20,7 @@ fn the_benchmark_is_the_seed_string_with_the_issue_s_study() {
     // The model, mesh (default basis) and integrator of seed_mc2014.toml; the additions are the
     // yield strength (API 5DP E-75, 75 ksi), the reference of the damage limit, and a
     // stiffness-proportional damping of 10 µs, without which the optimum is not converged in the
-    // basis (README, "Converged model").
+    // basis (docs/model.md, "Converged model").
     let yield_strength = p.model.pipe.yield_strength.expect("a yield strength");
     assert!((yield_strength - 75_000.0 * 6894.757293168).abs() < 1.0);
     assert!((p.model.stiffness_damping / 1e-5 - 1.0).abs() < 1e-12);

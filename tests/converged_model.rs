@@ -139,7 +139,7 @@ fn verify_reports_verdicts_that_follow_from_its_numbers() {
         serde_json::json!(["model.wall.slip_smoothing"])
     );
     // The base model's steady state: the tiny string has no bit inertia, and its bit node
-    // chatters (README, "Converged model"): the linearisation grows at about 613 1/s, 687 Hz.
+    // chatters (docs/model.md, "Converged model"): the linearisation grows at about 613 1/s, 687 Hz.
     let growth = r["steady_state"]["growth_rate_per_s"].as_f64().unwrap();
     assert!(growth > 100.0, "{growth}");
     let metrics = r["metrics"].as_object().unwrap();

@@ -286,7 +286,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     // The margin depends on the model and Ω only; a string without a resting state has none. It
     // is taken on the problem's reduced basis even for an unreduced run: a Campbell sweep of every
     // free DOF costs minutes per speed (`drillopt campbell --unreduced` gives the same critical
-    // speeds of the seed within 0.3 %, README "Critical speeds").
+    // speeds of the seed within 0.3 %, docs/model.md, "Critical speeds").
     let reduced;
     let margin_model = match kind {
         sim::ModelKind::Reduced => &model,
@@ -405,19 +405,19 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
 }
 
 /// The stiffness-proportional damping β with which `verify` found the seed string's stick-slip
-/// statistics converged up to bit_damping_ratio 1.98 (README, "Converged model"), s; 1 µs was too
+/// statistics converged up to bit_damping_ratio 1.98 (docs/model.md, "Converged model"), s; 1 µs was too
 /// little.
 const CONVERGED_STIFFNESS_DAMPING: f64 = 1e-5;
 
 /// The warning for a depth-of-cut bit (`law = "rgd"`) without the stiffness damping that bounds
-/// the reduced basis' spurious high mode (README, "A bit that cuts rock"); `None` otherwise.
+/// the reduced basis' spurious high mode (docs/model.md, "A bit that cuts rock"); `None` otherwise.
 /// Printed by `simulate` and by the study commands.
 pub(super) fn depth_of_cut_warning(string: &crate::model::Drillstring) -> Option<String> {
     (string.bit.blades().is_some()
         && string.stiffness_damping < CONVERGED_STIFFNESS_DAMPING * (1.0 - 1e-9))
         .then(|| {
             format!(
-                "warning: a depth-of-cut bit (law = \"rgd\") destabilises every axial mode the model holds, and the reduced basis has a spurious one above its axial modes (near 505 Hz on the seed string, growing faster than the physical first axial mode) that only [model.pipe] stiffness_damping bounds: with stiffness_damping = {:.3} us, below the 10 us with which the reduced model's growth matches the string's characteristic equation (README, \"A bit that cuts rock\"), the dynamics may be the basis', not the string's",
+                "warning: a depth-of-cut bit (law = \"rgd\") destabilises every axial mode the model holds, and the reduced basis has a spurious one above its axial modes (near 505 Hz on the seed string, growing faster than the physical first axial mode) that only [model.pipe] stiffness_damping bounds: with stiffness_damping = {:.3} us, below the 10 us with which the reduced model's growth matches the string's characteristic equation (docs/model.md, \"A bit that cuts rock\"), the dynamics may be the basis', not the string's",
                 string.stiffness_damping * 1e6
             )
         })
@@ -447,7 +447,7 @@ pub(super) fn steady_state_warning(
          grows at {:.3} 1/s ({:.1} Hz), so a disturbance doubles every {:.3} s and round-off \
          ({ROUND_OFF:e}) reaches the response's own size after about {:.1} s{}; the run starts on \
          the steady state, and a window that ends before the growth reads it as the long run \
-         (README, \"Linear stability of steady drilling\")",
+         (docs/model.md, \"Linear stability of steady drilling\")",
         s.growth_rate_per_s,
         s.frequency_hz,
         s.growth_time(2.0),
@@ -606,18 +606,18 @@ fn print_summary(
         }
         // The ratio is the rate law's slope at the feed the bit drills (V0, or the mean ROP of a
         // free top); an autodriller that holds its WOB limit most of the window fixes the depth of
-        // cut, and the law's torque no longer falls with the spin (README, "The driller's top"):
+        // cut, and the law's torque no longer falls with the spin (docs/model.md, "The driller's top"):
         // no warning then.
         let held = matches!(top, TopDrive::Autodriller(_)) && m.wob_limit_fraction > 0.5;
         let negative = m.bit_damping_ratio > 1.0 && !held;
         if negative && stiffness_damping == 0.0 {
             eprintln!(
-                "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1): the bit feeds torsional waves faster than the string carries them away, and without [model.pipe] stiffness_damping the stick-slip statistics depend on the shortest torsional waves the basis holds: expect `drillopt verify` to find them not converged (README, \"Converged model\": stiffness_damping = \"10 us\" bounds them)",
+                "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1): the bit feeds torsional waves faster than the string carries them away, and without [model.pipe] stiffness_damping the stick-slip statistics depend on the shortest torsional waves the basis holds: expect `drillopt verify` to find them not converged (docs/model.md, \"Converged model\": stiffness_damping = \"10 us\" bounds them)",
                 m.bit_damping_ratio
             );
         } else if negative && stiffness_damping < CONVERGED_STIFFNESS_DAMPING * (1.0 - 1e-9) {
             eprintln!(
-                "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1), and stiffness_damping = {:.3} us is below the 10 us with which `drillopt verify` found the stick-slip statistics converged up to a ratio of 1.98 (1 us was too little; README, \"Converged model\"): check this point with `drillopt verify`",
+                "warning: the bit's negative damping is {:.2} times the pipe's torsional impedance (bit_damping_ratio > 1), and stiffness_damping = {:.3} us is below the 10 us with which `drillopt verify` found the stick-slip statistics converged up to a ratio of 1.98 (1 us was too little; docs/model.md, \"Converged model\"): check this point with `drillopt verify`",
                 m.bit_damping_ratio,
                 stiffness_damping * 1e6
             );

@@ -161,7 +161,7 @@ impl MetricsConfig {
 /// extremes carry the Gibbs overshoot of the truncated modal series and do not converge as modes
 /// are added: on a 10 s seed window, SSI 1.30 / 2.75 / 2.44 / 2.99 for 3, 3 + static correction,
 /// 8 + static correction and 16 + static correction torsional modes, against 0.95 / 1.31 / 1.03 /
-/// 1.11 for the 10 ms average (README, "Converged metrics").
+/// 1.11 for the 10 ms average (docs/model.md, "Converged model").
 ///
 /// # Off-bottom rotation (V0 = 0)
 /// Every metric is defined at V0 = 0: the mean ROP is the bit's elastic axial drift (≈ 0), the
@@ -300,7 +300,7 @@ pub struct Metrics {
     /// torsional disturbance faster than the pipe can carry it away, and with the paper's
     /// mass-proportional damping alone the response is set by the shortest torsional waves the
     /// model holds and no basis converges; a stiffness-proportional damping
-    /// (`[model.pipe] stiffness_damping`) bounds them (README, "Converged model"). It depends on
+    /// (`[model.pipe] stiffness_damping`) bounds them (docs/model.md, "Converged model"). It depends on
     /// the model and the operating point, and under a free top on the mean ROP drilled (taken as
     /// the bit's feed: [`Self::with_drilled_bit_damping_ratio`]). NaN when not computed.
     pub bit_damping_ratio: f64,

@@ -64,7 +64,7 @@ impl BasisSpec {
     /// torsional, 4 axial, and the two bit static corrections. Counts, not cutoffs: what the
     /// metrics need is the resolution of the waves along the string, and a cutoff in Hz would keep
     /// hundreds of bending modes of a long string. Established by the refinement study in the
-    /// README ("Converged metrics"): against 32 / 16 / 8 the decision metrics of a 40 s seed
+    /// docs/model.md ("Converged model"): against 32 / 16 / 8 the decision metrics of a 40 s seed
     /// window move less than their `verify` tolerances.
     pub const DEFAULT: BasisSpec = BasisSpec::PerFamily {
         bending: FamilySize::Count(16),

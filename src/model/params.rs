@@ -84,7 +84,7 @@ pub struct Drillstring {
     /// model, when absent): C = c M_pipe + β K, Rayleigh damping (Clough & Penzien, *Dynamics of
     /// Structures*, 2nd ed., 1993, §12.4), a damping ratio ζ = c/(2ω) + βω/2 for a mode of
     /// circular frequency ω. Not in the paper, whose C = c M_pipe damps every mode at the same rate
-    /// c/2: the velocity-weakening bit feeds torsional waves of every length (README, "Converged
+    /// c/2: the velocity-weakening bit feeds torsional waves of every length (docs/model.md, "Converged
     /// model"), and β, which damps a wave at a rate growing as ω², is the dissipation that grows
     /// with frequency (material hysteresis, the mud's viscous torque) that bounds them. The rigid
     /// motion carries no strain (K Q̇_rigid = 0), so β adds no load of the imposed motion. Left out
@@ -109,7 +109,7 @@ pub struct Drillstring {
     /// Polar moment of inertia of the bit (and of whatever turns with it below the last node),
     /// lumped on θx of the bit node, kg·m² (`[model.bit] inertia`; 0, the paper's model, when
     /// absent). Not in the paper: with none, the bit node of the unreduced finite-element model
-    /// chatters at the element scale under the velocity-weakening bit torque (README,
+    /// chatters at the element scale under the velocity-weakening bit torque (docs/model.md,
     /// "Converged model"). Left out of the serialised model when 0, so that the model hash of a
     /// problem without it is unchanged.
     #[serde(skip_serializing_if = "crate::units::is_zero")]

@@ -153,7 +153,7 @@ fn the_delay_destabilises_steady_drilling_as_its_characteristic_equation_says() 
     // default basis with the stiffness-proportional damping of 10 µs that the README's converged
     // model uses: without it the basis has a spurious mode near 505 Hz (above its 4 axial modes,
     // where its static corrections stand in for the continuum) that the delay destabilises at
-    // 7.7 /s, faster than the physical 47 Hz mode (README, "A bit that cuts rock").
+    // 7.7 /s, faster than the physical 47 Hz mode (docs/model.md, "A bit that cuts rock").
     let plain = problem("rgd");
     let damped = Problem::from_toml(
         &SEED_DETOURNAY

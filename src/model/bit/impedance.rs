@@ -11,7 +11,7 @@
 //! |(Z + c + iωJ_b)/(Z − c + iωJ_b)| times larger: above 1 at every frequency when c > 0, and
 //! unbounded at low frequency as c → Z. The ratio c/Z is reported as the metric
 //! `bit_damping_ratio`: above 1 the answer of the model is set by the shortest torsional waves it
-//! holds (README, "Converged model": at 40 rpm and 20 m/h on the seed, ratio 1.97, 8 to 32
+//! holds (docs/model.md, "Converged model": at 40 rpm and 20 m/h on the seed, ratio 1.97, 8 to 32
 //! torsional modes give stick fractions from 11 % to 0 %). The excess gain of a reflection falls
 //! as ω⁻² at high frequency (|R|² − 1 ≈ 4Zc/(ωJ_b)²), so a damping that grows as ω², the
 //! stiffness-proportional β K of `[model.pipe] stiffness_damping` (a modal decay rate βω²/2),
@@ -77,7 +77,7 @@ mod tests {
                 "{rpm} rpm: {ratio} vs {expected}"
             );
         }
-        // The seed's point: 0.34; the high-feed and low-speed points of the README: above 1.
+        // The seed's point: 0.34; the high-feed and low-speed points of docs/model.md ("Converged model"): above 1.
         let at = |rpm: f64, m_per_h: f64| {
             bit_damping_ratio(
                 &string,
