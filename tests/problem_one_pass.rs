@@ -121,3 +121,52 @@ fn a_refused_value_does_not_cause_refusals_of_the_values_checked_against_it() {
     let keys: Vec<&str> = err.key_errors().iter().map(|e| e.key.as_str()).collect();
     assert_eq!(keys, ["constraints.omega[1]"], "{err}");
 }
+
+#[test]
+fn a_value_of_the_wrong_type_does_not_hide_the_other_refusals() {
+    // A required key of the wrong type (`mesh.elements` a string), an optional one (`poisson_ratio`
+    // a boolean), an unknown choice and a value out of range: all four in one pass, and nothing
+    // about the stand-ins (the basis is checked against the element count, which is refused).
+    let text = edit(&[
+        ("elements = 12", "elements = \"twelve\""),
+        ("poisson_ratio = 0.3", "poisson_ratio = true"),
+        ("duration = \"1.5 s\"", "duration = \"-1 s\""),
+    ])
+    .replace("[model.bit]\n", "[model.bit]\nlaw = \"expo\"\n");
+    let err = load(&text).expect_err("refused");
+    let keys: Vec<&str> = err.key_errors().iter().map(|e| e.key.as_str()).collect();
+    assert_eq!(
+        keys,
+        [
+            "mesh.elements",
+            "model.pipe.poisson_ratio",
+            "model.bit.law",
+            "simulation.duration"
+        ],
+        "{err}"
+    );
+    let text = err.to_string();
+    assert!(
+        text.contains("must be an integer, got string \"twelve\""),
+        "{text}"
+    );
+    assert!(text.contains("got \"expo\""), "{text}");
+    // Two required keys of the wrong type, one a table: both said, and the file's other values
+    // still checked.
+    let text = edit(&[
+        ("elements = 12", "elements = 12.5"),
+        ("time_step = \"10 ms\"", "time_step = [1]"),
+        ("duration = \"1.5 s\"", "duration = \"1.5 ss\""),
+    ]);
+    let err = load(&text).expect_err("refused");
+    let keys: Vec<&str> = err.key_errors().iter().map(|e| e.key.as_str()).collect();
+    assert_eq!(
+        keys,
+        [
+            "mesh.elements",
+            "simulation.time_step",
+            "simulation.duration"
+        ],
+        "{err}"
+    );
+}

@@ -58,14 +58,14 @@ impl Problem {
 
     /// Parse and validate TOML text; `path` is used for messages and the default name.
     pub fn from_toml(text: &str, path: &Path) -> Result<Self, ProblemError> {
-        let (raw, shape) = validate::parse(text, path)?;
+        let (raw, shape, masked) = validate::parse(text, path)?;
         let Some(raw) = raw else {
             return Err(ProblemError::Invalid {
                 file: path.to_path_buf(),
                 errors: shape,
             });
         };
-        let mut problem = validate::problem(raw, path, shape)?;
+        let mut problem = validate::problem(raw, path, shape, masked)?;
         problem.text = text.to_string();
         Ok(problem)
     }

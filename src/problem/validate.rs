@@ -22,15 +22,34 @@ pub const STANDARD_GRAVITY: f64 = 9.81;
 /// out of the table before parsing again, up to this many.
 const MAX_SHAPE_ERRORS: usize = 100;
 
+/// Values that stand in for a required key of the wrong type, tried in turn until the parse gets
+/// past the key: a value of some type the key takes, so that the rest of the file is read and
+/// checked in the same pass (the refusals of keys under a stand-in are not reported: they would
+/// be about the stand-in).
+fn stand_ins() -> [toml::Value; 6] {
+    [
+        toml::Value::Integer(1),
+        toml::Value::Float(1.0),
+        toml::Value::String("1".into()),
+        toml::Value::Boolean(false),
+        toml::Value::Array(Vec::new()),
+        toml::Value::Table(toml::Table::new()),
+    ]
+}
+
+/// What [`parse`] read: the file (when it could be read with only unknown keys taken out and
+/// mistyped required keys stood in for), the shape errors met on the way, and the keys that hold
+/// a stand-in (whose later refusals are about the stand-in).
+pub(super) type Parsed = (Option<ProblemFile>, Vec<KeyError>, Vec<String>);
+
 /// Deserialize the file, reporting the dotted path of every key that is unknown or has the wrong
 /// shape. An unknown key, or a table key of the wrong type, is recorded and removed, and the parse
-/// runs again, so that one pass reports them all; a missing required key or a mistyped array
-/// element ends the pass. Returns the errors met on the way, and the file when it could be read
-/// with only unknown keys taken out (its values are then checked too, in the same pass).
-pub(super) fn parse(
-    text: &str,
-    file: &Path,
-) -> Result<(Option<ProblemFile>, Vec<KeyError>), ProblemError> {
+/// runs again, so that one pass reports them all; a required key of the wrong type is recorded
+/// and given a stand-in value ([`stand_ins`]) so that the parse reads on. A missing required key
+/// or a mistyped array element ends the pass. Returns the errors met on the way, and the file
+/// when it could be read with only unknown keys taken out or mistyped keys stood in for (its
+/// values are then checked too, in the same pass, but for those under a stand-in).
+pub(super) fn parse(text: &str, file: &Path) -> Result<Parsed, ProblemError> {
     // The document parser, for line and column of syntax errors; then a table to edit.
     let de = toml::Deserializer::parse(text).map_err(|e| syntax(text, file, &e))?;
     let mut table = match toml::Table::deserialize(de) {
@@ -39,10 +58,18 @@ pub(super) fn parse(
     };
     let mut errors: Vec<KeyError> = Vec::new();
     let mut removed: Vec<String> = Vec::new();
+    // The keys given a stand-in, with the index of the one they hold.
+    let mut stood_in: Vec<(String, Vec<String>, usize)> = Vec::new();
+    // Keys of the wrong type taken out or stood in for: their later refusals are not theirs.
+    let mut mistyped: Vec<String> = Vec::new();
     let mut only_unknown = true;
-    while errors.len() < MAX_SHAPE_ERRORS {
+    // A bound on the re-parses: every error, and every stand-in tried, is one.
+    for _ in 0..MAX_SHAPE_ERRORS * (1 + stand_ins().len()) {
+        if errors.len() >= MAX_SHAPE_ERRORS {
+            break;
+        }
         let e = match serde_path_to_error::deserialize::<_, ProblemFile>(table.clone()) {
-            Ok(raw) if only_unknown => return Ok((Some(raw), errors)),
+            Ok(raw) if only_unknown => return Ok((Some(raw), errors, mistyped)),
             Ok(_) => break,
             Err(e) => e,
         };
@@ -56,19 +83,45 @@ pub(super) fn parse(
             })
             .collect();
         let (key, message) = shape_error(e, text);
+        let mut at: Vec<String> = segments.clone();
+        if !at.last().is_some_and(|k| key.ends_with(k.as_str())) {
+            // A top-level key: the path is empty and the key comes from the message.
+            at.push(key.rsplit('.').next().unwrap_or(&key).to_string());
+        }
+        // A stand-in of the wrong type too: the next one.
+        if let Some((_, path, index)) = stood_in.iter_mut().find(|(k, ..)| *k == key) {
+            *index += 1;
+            let Some(next) = stand_ins().into_iter().nth(*index) else {
+                break;
+            };
+            let path: Vec<&str> = path.iter().map(String::as_str).collect();
+            if !insert_key(&mut table, &path, next) {
+                break;
+            }
+            continue;
+        }
         if message.starts_with("missing field") {
-            // Missing because a mistyped value was taken out: already reported.
+            // Missing because a mistyped value was taken out (already reported): a stand-in so
+            // that the rest is read; else a required key the file lacks, which ends the pass.
             if !removed.contains(&key) {
                 errors.push(KeyError { key, message });
+                break;
             }
-            break;
+            let path: Vec<&str> = at.iter().map(String::as_str).collect();
+            let [first, ..] = stand_ins();
+            if !insert_key(&mut table, &path, first) {
+                break;
+            }
+            stood_in.push((key, at, 0));
+            continue;
         }
-        only_unknown &= message.starts_with("unknown field");
-        let mut at: Vec<&str> = segments.iter().map(String::as_str).collect();
-        if !at.last().is_some_and(|k| key.ends_with(k)) {
-            // A top-level key: the path is empty and the key comes from the message.
-            at.push(key.rsplit('.').next().unwrap_or(&key));
+        // A key of the wrong type is taken out (its default, if any, stands in): the rest of the
+        // file is still read and checked.
+        if message.starts_with("must be ") {
+            mistyped.push(key.clone());
         }
+        only_unknown &= message.starts_with("unknown field") || message.starts_with("must be ");
+        let at: Vec<&str> = at.iter().map(String::as_str).collect();
         let gone = remove_key(&mut table, &at);
         removed.push(key.clone());
         errors.push(KeyError { key, message });
@@ -76,7 +129,7 @@ pub(super) fn parse(
             break;
         }
     }
-    Ok((None, errors))
+    Ok((None, errors, mistyped))
 }
 
 /// The key and message of a deserialization error.
@@ -167,6 +220,32 @@ fn remove_key(value: &mut toml::Value, path: &[&str]) -> bool {
     }
 }
 
+/// Insert `value` as the table key at `path` (as [`remove_key`] walks it); whether it could.
+fn insert_key(value: &mut toml::Value, path: &[&str], new: toml::Value) -> bool {
+    let Some((last, parents)) = path.split_last() else {
+        return false;
+    };
+    let mut v = value;
+    for seg in parents {
+        let next = match (v, seg.strip_prefix('[').and_then(|s| s.strip_suffix(']'))) {
+            (toml::Value::Array(a), Some(i)) => i.parse::<usize>().ok().and_then(|i| a.get_mut(i)),
+            (toml::Value::Table(t), None) => t.get_mut(*seg),
+            _ => None,
+        };
+        match next {
+            Some(n) => v = n,
+            None => return false,
+        }
+    }
+    match v {
+        toml::Value::Table(t) => {
+            t.insert((*last).to_string(), new);
+            true
+        }
+        _ => false,
+    }
+}
+
 /// The key named in serde's "missing field `x`" / "unknown field `x`" messages.
 fn missing_or_unknown_key(message: &str) -> Option<String> {
     let rest = message
@@ -201,14 +280,22 @@ fn syntax(text: &str, file: &Path, e: &toml::de::Error) -> ProblemError {
 pub(super) struct Checker<'a> {
     pub(super) file: &'a Path,
     errors: RefCell<Vec<KeyError>>,
+    /// How many of `errors` are the parse's shape errors.
+    shape: usize,
+    /// Keys of the wrong type (reported among the shape errors), taken out or stood in for: a
+    /// refusal of one of them, or of a key under it, is about its stand-in and not reported.
+    masked: Vec<String>,
 }
 
 impl<'a> Checker<'a> {
-    /// A checker for `file` that already holds the parse's shape errors.
-    pub(super) fn new(file: &'a Path, errors: Vec<KeyError>) -> Self {
+    /// A checker for `file` that already holds the parse's shape errors; `masked`: the keys of
+    /// the wrong type among them (see [`parse`]).
+    pub(super) fn new(file: &'a Path, errors: Vec<KeyError>, masked: Vec<String>) -> Self {
         Checker {
             file,
+            shape: errors.len(),
             errors: RefCell::new(errors),
+            masked,
         }
     }
 
@@ -250,7 +337,25 @@ impl<'a> Checker<'a> {
 
     /// Every refusal recorded, as one error; `Ok` when there is none.
     pub(super) fn finish(self) -> Result<(), ProblemError> {
-        let errors = self.errors.into_inner();
+        let mut errors = self.errors.into_inner();
+        let masked = &self.masked;
+        let under = |key: &str| {
+            masked.iter().any(|m| {
+                key == m
+                    || key
+                        .strip_prefix(m.as_str())
+                        .is_some_and(|rest| rest.starts_with(['.', '[']))
+            })
+        };
+        // A refusal that names a masked key in its message rests on its stand-in too (a count
+        // of modes against `mesh.elements`).
+        let cites = |message: &str| masked.iter().any(|m| message.contains(m.as_str()));
+        let later = errors.split_off(self.shape.min(errors.len()));
+        errors.extend(
+            later
+                .into_iter()
+                .filter(|e| !under(&e.key) && !cites(&e.message)),
+        );
         if errors.is_empty() {
             Ok(())
         } else {
@@ -469,8 +574,9 @@ pub(super) fn problem(
     raw: ProblemFile,
     file: &Path,
     shape: Vec<KeyError>,
+    masked: Vec<String>,
 ) -> Result<Problem, ProblemError> {
-    let c = Checker::new(file, shape);
+    let c = Checker::new(file, shape, masked);
     let model = c.section(drillstring(&c, &raw.model));
     let mesh = c.section(mesh(&c, &raw.mesh));
     let graded: Option<usize> = model.as_ref().and_then(|m| {
