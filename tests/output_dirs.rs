@@ -81,3 +81,42 @@ fn batch_writes_its_default_output_where_git_does_not_track() {
         "{ignore}"
     );
 }
+
+#[test]
+fn batch_refuses_a_second_problem_of_the_same_name_instead_of_overwriting_the_first() {
+    // Two files with `name = "tiny_string"`: the first is solved into <out>/tiny_string, the
+    // second is a failure that names both files, and the first's report stays.
+    let dir = tempfile::tempdir().unwrap();
+    let problems = dir.path().join("problems");
+    std::fs::create_dir(&problems).unwrap();
+    let (a, b) = (problems.join("a.toml"), problems.join("b.toml"));
+    std::fs::copy(TINY, &a).unwrap();
+    std::fs::copy(TINY, &b).unwrap();
+    let out = dir.path().join("out");
+    let run = drillopt(&[
+        "batch",
+        problems.to_str().unwrap(),
+        "--threads",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(!run.status.success(), "{stdout}");
+    let rows: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("tiny_string"))
+        .collect();
+    assert_eq!(rows.len(), 2, "{stdout}");
+    assert!(rows[0].contains("PASS"), "{stdout}");
+    assert!(
+        rows[1].contains("FAIL")
+            && rows[1].contains(&b.display().to_string())
+            && rows[1].contains(&format!("also the name of {}", a.display())),
+        "{stdout}"
+    );
+    let solution = std::fs::read_to_string(out.join("tiny_string/solution.json")).unwrap();
+    assert!(solution.contains("a.toml") && !solution.contains("b.toml"));
+    assert!(!out.join("tiny_string/cache.jsonl.old").exists());
+}

@@ -130,6 +130,7 @@ pub fn run(args: &BatchArgs, units: crate::units::UnitSystem) -> anyhow::Result<
     super::study::start_threads(args.run.threads)?;
     super::create_out_dir(&out_root(&args.run.out))?;
     let mut verdicts = Vec::new();
+    let mut written: std::collections::BTreeMap<String, PathBuf> = Default::default();
     for file in &files {
         let loaded = Problem::load(file)
             .map_err(anyhow::Error::from)
@@ -155,6 +156,23 @@ pub fn run(args: &BatchArgs, units: crate::units::UnitSystem) -> anyhow::Result<
             continue;
         };
         let out = out_root(&args.run.out).join(&problem.name);
+        // Each problem writes to <out>/<name>: a second file of the same name would overwrite
+        // the first one's report (and set its cache aside).
+        if let Some(first) = written.get(&problem.name) {
+            verdicts.push(Verdict {
+                problem: problem.name.clone(),
+                pass: false,
+                detail: format!(
+                    "{}: not solved: `name = \"{}\"` is also the name of {}, whose report in {} it would overwrite; give one of them another name",
+                    file.display(),
+                    problem.name,
+                    first.display(),
+                    out.display()
+                ),
+            });
+            continue;
+        }
+        written.insert(problem.name.clone(), file.clone());
         let verdict = match super::create_out_dir(&out).and_then(|()| {
             super::solve::solve_and_report(
                 &problem,
