@@ -131,3 +131,57 @@ fn a_map_and_compare_over_omega_and_wob() {
     assert_eq!(again["points"][0]["wob_n"], best["wob_n"]);
     assert_eq!(again["points"][0]["objective"], map["optimum_objective"]);
 }
+
+/// Multi-fidelity under a hook load: the exploration and the confirmation run over (Ω, WOB), and
+/// every record of solution.json says its WOB (no V0). The file is deterministic, so the explore
+/// fidelity is a shorter window only (8 s against the full 16 s) and three candidates are
+/// confirmed: the first (the explore favourite, 43.1 rpm / 59.3 kN) reads the fatigue damage rate
+/// 3.6 % lower on the short window and is infeasible at full fidelity; a later one is the optimum,
+/// inside the file's [expect] box.
+#[test]
+fn a_multi_fidelity_solve_over_omega_and_wob() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(FILE).unwrap()
+        + "\n[optimizer.explore]\nduration = \"8.5 s\"\nsettling_time = \"0.5 s\"\nconfirm = 3\n";
+    let file = dir.path().join("hook_mf.toml");
+    std::fs::write(&file, text).unwrap();
+    let out = dir.path().join("solve");
+    let stdout = drillopt(
+        &["solve", file.to_str().unwrap(), "--threads", "1", "--quiet"],
+        &out,
+    );
+    assert!(stdout.contains("optimum (full fidelity)"), "{stdout}");
+    let s = json(&out.join("solution.json"));
+    assert_eq!(s["status"], "converged", "{stdout}");
+    let (rpm, wob) = (
+        s["optimum"]["omega_rpm"].as_f64().unwrap(),
+        s["optimum"]["wob_kn"].as_f64().unwrap(),
+    );
+    assert!(s["optimum"].get("v0_m_per_h").is_none());
+    // The file's [expect]: 35-53 rpm, 53-64 kN, score 2.7-3.1.
+    assert!(
+        (35.0..=53.0).contains(&rpm) && (53.0..=64.0).contains(&wob),
+        "{rpm} {wob}"
+    );
+    let score = s["objective"]["score"].as_f64().unwrap();
+    assert!((2.7..=3.1).contains(&score), "{score}");
+    let c = &s["confirmation"];
+    assert!(c["explore_best_v0_m_per_h"].is_null());
+    assert!(c["explore_best_wob_kn"].as_f64().unwrap() > 0.0);
+    let candidates = c["candidates"].as_array().unwrap();
+    assert!(candidates.len() >= 2, "{c}");
+    for k in candidates {
+        assert!(k["wob_kn"].as_f64().unwrap() > 0.0 && k.get("v0_m_per_h").is_none());
+        // Steady runs: the two fidelities score a point alike; the window moves the fatigue.
+        let (e, f) = (
+            k["explore_score"].as_f64().unwrap(),
+            k["full_score"].as_f64().unwrap(),
+        );
+        assert!((e - f).abs() < 1e-6 * f.abs(), "{k}");
+    }
+    // The optimum is a confirmed, feasible candidate; the explore favourite was not feasible.
+    assert_eq!(candidates[0]["full_feasible"], false, "{c}");
+    assert!(candidates.iter().any(
+        |k| k["full_feasible"] == true && (k["omega_rpm"].as_f64().unwrap() - rpm).abs() < 1e-9
+    ));
+}
