@@ -57,3 +57,30 @@ fn quiet_study_commands_still_print_their_result() {
     let text = quiet_stdout(&[&["solve", TINY, "--budget", "3"], &common[..], &[&solve]].concat());
     assert!(text.contains("feasible") && text.contains("Ω ="), "{text}");
 }
+
+/// Without a terminal (standard error to a pipe or a log) the bars cannot draw: a plain progress
+/// line every few seconds instead, on standard error (none with `--quiet`).
+#[test]
+fn without_a_terminal_long_work_prints_progress_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let seed = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/seed_mc2014.toml");
+    let out = dir.path().join("run");
+    // About 7 s of work on the seed (5 s between lines).
+    let run = |quiet: bool| {
+        let mut args = vec!["simulate", seed, "--duration", "12", "--out"];
+        args.push(out.to_str().unwrap());
+        if quiet {
+            args.push("--quiet");
+        }
+        let o = drillopt(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8(o.stderr).unwrap()
+    };
+    let err = run(false);
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("simulate: t = "))
+        .unwrap_or_else(|| panic!("no progress line: {err}"));
+    assert!(line.contains(" / 12 s") && line.ends_with(" s)"), "{line}");
+    assert!(!run(true).contains("simulate: t = "));
+}

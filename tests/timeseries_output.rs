@@ -141,3 +141,58 @@ fn the_flag_refuses_a_bad_interval_naming_the_flag_and_key() {
         assert!(!stderr.contains("panicked"), "{bad}: {stderr}");
     }
 }
+
+/// Ctrl-C during `simulate` (SIGINT; SIGTERM alike): the run stops after the step in progress and
+/// writes what it had: the time series renamed into place (no hidden temporary file left), a
+/// summary with status `interrupted` and the time it stopped, and an exit status that is not 0.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_simulate_writes_what_it_had_and_leaves_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(["simulate", FILE, "--duration", "60", "--quiet", "--out"])
+        .arg(&out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The time series' temporary file appears just before the run starts; a second later the
+    // run is stepping (the seed's 60 s take about a minute).
+    let hidden = |out: &Path| -> Vec<String> {
+        std::fs::read_dir(out).map_or(Vec::new(), |d| {
+            d.flatten()
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .filter(|n| n.starts_with('.'))
+                .collect()
+        })
+    };
+    let start = std::time::Instant::now();
+    while hidden(&out).is_empty() {
+        assert!(start.elapsed().as_secs() < 60, "the run never started");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    // SAFETY: a plain kill(2) of our own child.
+    assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "{stderr}");
+    assert!(stderr.contains("interrupted at t ="), "{stderr}");
+    assert_eq!(hidden(&out), Vec::<String>::new());
+    let s = summary(&out);
+    assert_eq!(s["status"], "interrupted", "{s}");
+    let stopped: f64 = s["error"].as_str().unwrap()["interrupted at t = ".len()..]
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(stopped > 0.0 && stopped < 60.0, "{stopped}");
+    // The rows reach the time it stopped, every 0.5 ms.
+    let rows = rows(&out);
+    let last = rows.last().unwrap()[0];
+    assert!(last <= stopped && last > stopped - 1e-3, "{last} {stopped}");
+    assert!(out.join("bit_axial.svg").exists());
+}

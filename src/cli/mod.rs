@@ -4,6 +4,7 @@
 mod batch;
 mod campbell;
 mod compare;
+mod interrupt;
 mod map;
 mod modes;
 mod simulate;
@@ -84,11 +85,19 @@ pub(crate) fn basis_error(
     };
     let keys = match &e {
         BasisError::Eigen(EigenError::MassNotPositiveDefinite { .. }) => MASS_KEYS,
-        BasisError::Eigen(EigenError::StiffnessNotPositive { .. })
-        | BasisError::Eigen(EigenError::NoConvergence { .. }) => STIFFNESS_AND_MASS_KEYS,
+        BasisError::Eigen(EigenError::StiffnessNotPositive { .. }) => STIFFNESS_AND_MASS_KEYS,
+        // The eigen-solve itself (Lanczos, then the dense solver up to 4000 DOFs per family)
+        // did not reach the count: the count or the mesh, not the physical inputs.
+        BasisError::Eigen(EigenError::NoConvergence { converged, asked }) => {
+            return anyhow::anyhow!(
+                "{}: key `{basis_key}`: the eigen-solve found {converged} of the {asked} lowest modes of a family to the accuracy the basis needs (the sparse Lanczos solver, then the dense one for a family of up to 4000 degrees of freedom); ask for at most {converged} modes per family (or a cutoff frequency), or use fewer elements (`mesh.elements`)",
+                path.display()
+            );
+        }
         BasisError::Eigen(EigenError::TooMany { .. }) | BasisError::EmptyFamily { .. } => {
             return anyhow::anyhow!("{}: key `{basis_key}`: {e}", path.display());
         }
+        BasisError::RestingShape { .. } => RESTING_KEYS,
     };
     anyhow::anyhow!(
         "{}: {e}; it comes from the keys {} (and {basis_key}): check their values and units",
@@ -96,6 +105,21 @@ pub(crate) fn basis_error(
         quoted(keys)
     )
 }
+
+/// The keys that set the resting shape: the string's weight and bending stiffness, the wall and
+/// the gap.
+const RESTING_KEYS: &[&str] = &[
+    "model.length",
+    "mesh.elements",
+    "model.gravity",
+    "model.pipe.density",
+    "model.pipe.youngs_modulus",
+    "model.pipe.outer_radius",
+    "model.pipe.inner_radius",
+    "model.borehole.radius",
+    "model.wall.stiffness",
+    "model.wall.stiffness_per",
+];
 
 /// The keys that set the mass matrix.
 const MASS_KEYS: &[&str] = &[

@@ -242,6 +242,12 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
 
     let bar = if args.quiet {
         ProgressBar::hidden()
+    } else if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        // No terminal (a log file, a pipe): a plain line now and then instead of the bar.
+        let bar = ProgressBar::hidden();
+        bar.set_length(1000);
+        super::study::log_progress(&bar, |b| format!("simulate: {}", b.message()));
+        bar
     } else {
         ProgressBar::new(1000)
     };
@@ -276,10 +282,23 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         metrics::OnlineMetrics::new(config.clone(), duration)?,
         sim::Sampler::new(interval, probes.len(), (csv, kept)),
     );
-    let output = sim::run_model_into(&problem, &model, op, duration, sink, |t| {
-        bar.set_position((1000.0 * t / duration) as u64);
-        bar.set_message(format!("t = {t:.2} / {duration} s"));
-    });
+    // Ctrl-C (or SIGTERM) ends the run after the step in progress, and what was computed is
+    // written as below (a second Ctrl-C ends the process at once).
+    let stop = super::interrupt::install();
+    let output = sim::run_model_until(
+        &problem,
+        &model,
+        op,
+        duration,
+        sink,
+        |t| {
+            bar.set_position((1000.0 * t / duration) as u64);
+            bar.set_message(format!("t = {t:.2} / {duration} s"));
+        },
+        stop,
+    );
+    super::interrupt::uninstall();
+    let interrupted = matches!(output.error, Some(sim::SimulationError::Interrupted { .. }));
     let ((online, sampler), output) = output.split();
     let (csv, series) = sampler.finish();
     bar.set_message("critical speeds");
@@ -343,6 +362,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         status: match (&output.error, &metrics_error) {
             (None, None) => RunStatus::Completed,
             (None, Some(_)) => RunStatus::NoMetrics,
+            (Some(_), _) if interrupted => RunStatus::Interrupted,
             (Some(_), _) => RunStatus::Failed,
         },
         error: output.error.as_ref().map(|e| e.to_string()),
@@ -516,6 +536,7 @@ fn print_summary(
     // A run that stopped early did not simulate its duration: say so (the error follows).
     let done = match s.status {
         RunStatus::Failed => format!("stopped before the end of its {} s", s.duration_s),
+        RunStatus::Interrupted => format!("interrupted before the end of its {} s", s.duration_s),
         _ => format!("{} s simulated", s.duration_s),
     };
     println!(

@@ -8,6 +8,7 @@ use crate::study::{PointEvaluation, RobustEvaluator};
 use crate::units::UnitSystem;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 /// Where a study command writes and whether it resumes: the options `solve`, `map`, `compare` and
@@ -125,12 +126,25 @@ pub fn open_cache(out: &Path, resume: bool) -> anyhow::Result<EvalCache> {
 /// The progress bar of a study command: `total` simulations, or at most `total` when
 /// `at_most` (sequential sampling stops points early, so the bar may end short of its length).
 pub fn progress_bar(quiet: bool, total: u64, at_most: bool, label: &str) -> ProgressBar {
+    let of = if at_most { "at most " } else { "" };
     let bar = if quiet {
         ProgressBar::hidden()
+    } else if !std::io::stderr().is_terminal() {
+        // No terminal to draw on (a log file, a pipe): a plain line now and then instead.
+        let bar = ProgressBar::hidden();
+        bar.set_length(total);
+        let label = label.to_owned();
+        log_progress(&bar, move |b| {
+            format!(
+                "{label}: {} of {of}{} simulations",
+                b.position(),
+                b.length().unwrap_or(0)
+            )
+        });
+        bar
     } else {
         ProgressBar::new(total)
     };
-    let of = if at_most { "at most " } else { "" };
     bar.set_style(
         ProgressStyle::with_template(&format!(
             "{{spinner}} {label} [{{bar:40}}] {{pos}} of {of}{{len}} simulations {{msg}} ({{elapsed}}, eta {{eta}})"
@@ -139,6 +153,39 @@ pub fn progress_bar(quiet: bool, total: u64, at_most: bool, label: &str) -> Prog
         .progress_chars("=> "),
     );
     bar
+}
+
+/// Seconds between two progress lines when standard error is not a terminal.
+pub const LOG_EVERY_S: u64 = 5;
+
+/// Every [`LOG_EVERY_S`] seconds until `bar` is finished (or dropped), the line `line` gives with
+/// the elapsed time, on standard error: the progress of a run whose output goes to a log, where
+/// the bar does not draw.
+pub fn log_progress(bar: &ProgressBar, line: impl Fn(&ProgressBar) -> String + Send + 'static) {
+    let weak = bar.downgrade();
+    std::thread::spawn(move || {
+        let start = std::time::Instant::now();
+        let mut next = LOG_EVERY_S;
+        loop {
+            std::thread::sleep(std::time::Duration::from_millis(200));
+            let Some(bar) = weak.upgrade() else {
+                return;
+            };
+            if bar.is_finished() {
+                return;
+            }
+            let elapsed = start.elapsed().as_secs();
+            if elapsed >= next {
+                next = elapsed + LOG_EVERY_S;
+                eprintln!(
+                    "{} ({} min {:02} s)",
+                    line(&bar),
+                    elapsed / 60,
+                    elapsed % 60
+                );
+            }
+        }
+    });
 }
 
 /// The evaluator of a problem, ticking `bar` after every simulation.

@@ -15,6 +15,10 @@ pub enum RunStatus {
     /// The run finished but its metrics could not be computed (`metrics_error` says why).
     #[serde(rename = "no metrics")]
     NoMetrics,
+    /// A signal (Ctrl-C, SIGTERM) stopped the run; `error` says when, and the metrics are those
+    /// of the window up to then (when it holds any of the analysis window).
+    #[serde(rename = "interrupted")]
+    Interrupted,
 }
 
 /// `summary.json` of `drillopt simulate`.

@@ -158,6 +158,13 @@ pub enum BasisError {
         family: &'static str,
         counts: BasisCounts,
     },
+    /// The resting shape of a bending plane (the string's static deflection under its weight
+    /// against the wall, [`super::resting`]) did not converge: refused rather than left out, as
+    /// a basis without it lets the reduced string bounce off the wall it lies on.
+    #[error(
+        "the resting shape of the {family} plane (the string's static deflection under its weight against the wall) did not converge: Newton on its energy found no minimum from the unloaded string nor from the string lying on the wall"
+    )]
+    RestingShape { family: &'static str },
 }
 
 /// The kept modes: frequencies, families and mass-normalised shapes on the full DOF set.
@@ -402,6 +409,7 @@ fn unwrap_eigen(basis: Result<ModalBasis, BasisError>) -> Result<ModalBasis, Eig
         Ok(b) => Ok(b),
         Err(BasisError::Eigen(e)) => Err(e),
         Err(BasisError::EmptyFamily { .. }) => unreachable!("build does not check families"),
+        Err(BasisError::RestingShape { .. }) => unreachable!("without a wall there is no shape"),
     }
 }
 

@@ -9,9 +9,9 @@
 //! dense matrices nor all its eigenpairs. Both pencils give the same blocks and, for the dense
 //! blocks, bitwise the same modes.
 
-use super::eigen::{EigenError, generalized_symmetric_eigen};
+use super::eigen::generalized_symmetric_eigen;
 use super::lanczos::{lanczos_applies, sparse_generalized_eigen, sparse_unit_response};
-use super::modes::{Candidate, Family, ModeKind};
+use super::modes::{BasisError, Candidate, Family, ModeKind};
 use super::resting::BlockRest;
 use crate::fem::{DOF_PER_NODE, Dof, SymmetricSparse};
 use crate::model::FamilySize;
@@ -162,7 +162,7 @@ pub(super) fn solve_block(
     ritz: RitzLoads<'_>,
     family_of: &impl Fn(usize) -> Family,
     par: Par,
-) -> Result<Vec<Candidate>, EigenError> {
+) -> Result<Vec<Candidate>, BasisError> {
     let RitzLoads { bit: loads, rest } = ritz;
     let all = block.len();
     let take = match size {
@@ -246,16 +246,21 @@ pub(super) fn solve_block(
         }
     }
     if let (Some(rest), Some(family)) = (rest, family) {
-        // The resting shape and its compression sensitivity, as Ritz vectors of the block.
-        let shapes = |k: &SymmetricSparse| -> Vec<Vec<f64>> {
-            let Some(x) = rest.shape(k) else {
-                return Vec::new();
-            };
+        // The resting shape and its compression sensitivity, as Ritz vectors of the block. A
+        // weightless block has none; a weighted one whose shape does not converge is refused
+        // (a basis without it lets the string bounce off the wall it should lie on).
+        let shapes = |k: &SymmetricSparse| -> Result<Vec<Vec<f64>>, BasisError> {
+            if rest.load.iter().all(|&b| b == 0.0) {
+                return Ok(Vec::new());
+            }
+            let x = rest.shape(k).ok_or(BasisError::RestingShape {
+                family: family.name(),
+            })?;
             let dx = rest
                 .geometric
                 .as_ref()
                 .and_then(|g| rest.compression_sensitivity(k, g, &x));
-            std::iter::once(x).chain(dx).collect()
+            Ok(std::iter::once(x).chain(dx).collect())
         };
         let vectors = match &matrices {
             Block::Dense(kb, mb) => dense_ritz(
@@ -263,9 +268,9 @@ pub(super) fn solve_block(
                 mb.as_ref(),
                 &vectors,
                 keep,
-                shapes(&SymmetricSparse::from_dense(kb.as_ref())),
+                shapes(&SymmetricSparse::from_dense(kb.as_ref()))?,
             ),
-            Block::Sparse(kb, mb) => sparse_ritz(kb, mb, &vectors, keep, shapes(kb)),
+            Block::Sparse(kb, mb) => sparse_ritz(kb, mb, &vectors, keep, shapes(kb)?),
         };
         for (lambda, psi) in vectors {
             kept.push(Candidate {

@@ -130,12 +130,58 @@ impl BlockRest<'_> {
 
     /// The resting shape on the block whose stiffness is `k`; `None` when the load is zero or
     /// Newton does not converge (the basis then goes without it).
+    ///
+    /// Newton starts from the unloaded string (x = 0). On a long string that start is far from the
+    /// minimum (the first step deflects a 5 km span by about 10⁹ m, and the line search crawls back
+    /// to the wall over hundreds of iterations), so when it fails Newton starts again from the
+    /// string lying on the wall ([`Self::bed_start`]): the answer is the same minimum of a strictly
+    /// convex energy, and the strings that converged from x = 0 keep their bits.
     pub fn shape(&self, k: &SymmetricSparse) -> Option<Vec<f64>> {
         let n = k.size();
         if self.load.iter().all(|&b| b == 0.0) {
             return None;
         }
+        self.minimum(k, vec![0.0; n])
+            .or_else(|| self.minimum(k, self.bed_start(n)))
+    }
+
+    /// The string lying on the wall: each contact row at the indentation δ ≥ 0 at which the wall
+    /// carries the row's own load, |F(δ)| = |bᵢ| (bisection), on the side the load pushes it; the
+    /// other rows (rotations, unloaded translations) at 0. It is the resting shape of an infinitely
+    /// long string on an elastic bed, where no span bends.
+    fn bed_start(&self, n: usize) -> Vec<f64> {
         let mut x = vec![0.0; n];
+        let rows = self.contact.iter().zip(&self.factors).zip(&self.gaps);
+        for ((&r, &factor), &gap) in rows {
+            let b = self.load[r];
+            if b == 0.0 {
+                continue;
+            }
+            let carried = |delta: f64| -self.law.normal(delta, 0.0).scaled(factor).elastic;
+            let mut high = gap.max(1e-6);
+            for _ in 0..60 {
+                if carried(high) >= b.abs() {
+                    break;
+                }
+                high *= 2.0;
+            }
+            let mut low = 0.0;
+            for _ in 0..100 {
+                let mid = 0.5 * (low + high);
+                if carried(mid) < b.abs() {
+                    low = mid;
+                } else {
+                    high = mid;
+                }
+            }
+            x[r] = b.signum() * (gap + 0.5 * (low + high));
+        }
+        x
+    }
+
+    /// Newton from `x` on the energy (see the module doc); `None` when it does not converge.
+    fn minimum(&self, k: &SymmetricSparse, mut x: Vec<f64>) -> Option<Vec<f64>> {
+        let n = k.size();
         let contact_of = self.contact_of(n);
         let mut trial = vec![0.0; n];
         for _ in 0..ITERATIONS {

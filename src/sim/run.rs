@@ -45,6 +45,30 @@ pub struct RunSettings {
     pub max_attempts: u64,
     /// Time from which the stress envelope is recorded (the analysis window's start), s.
     pub envelope_from: f64,
+    /// A flag that stops the run after the step in progress (`drillopt simulate`'s Ctrl-C):
+    /// [`SimulationError::Interrupted`], with what was computed kept. Not part of the run's
+    /// settings for comparison or hashing.
+    #[serde(skip)]
+    pub stop: StopFlag,
+}
+
+/// A flag that asks a run to stop ([`RunSettings::stop`]); none by default. Equal to every other
+/// flag: it does not change what a run computes, only where it ends.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StopFlag(pub Option<&'static std::sync::atomic::AtomicBool>);
+
+impl StopFlag {
+    /// Whether the run was asked to stop.
+    pub fn raised(&self) -> bool {
+        self.0
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+    }
+}
+
+impl PartialEq for StopFlag {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 impl RunSettings {
@@ -58,6 +82,7 @@ impl RunSettings {
             divergence_gaps: 50.0,
             max_attempts: (duration * MAX_ATTEMPTS_PER_SECOND).clamp(1e5, 1e12) as u64,
             envelope_from: 0.0,
+            stop: StopFlag::default(),
         }
     }
 }
@@ -165,6 +190,8 @@ pub enum SimulationError {
     RecordingStopped { time: f64 },
     #[error("at t = {time:.6} s the state became non-finite")]
     NonFinite { time: f64 },
+    #[error("interrupted at t = {time:.6} s (a signal asked the run to stop)")]
+    Interrupted { time: f64 },
     #[error(
         "at t = {time:.6} s the run diverged: lateral displacement {radial_over_gap:.1} times the gap"
     )]
@@ -1065,6 +1092,9 @@ pub fn simulate_into<S: Sink>(
         }
         progress(nm.t);
         error = stepper.check().err().map(SimulationError::from);
+        if error.is_none() && settings.stop.raised() {
+            error = Some(SimulationError::Interrupted { time: nm.t });
+        }
     }
     let nm = &stepper.nm;
     let c = stepper.counters;
@@ -1182,9 +1212,32 @@ pub fn run_model_into<S: Sink>(
     sink: S,
     progress: impl FnMut(f64),
 ) -> RunOutput<S> {
+    run_model_until(
+        problem,
+        model,
+        op,
+        duration,
+        sink,
+        progress,
+        StopFlag::default(),
+    )
+}
+
+/// [`run_model_into`] that ends early, with [`SimulationError::Interrupted`] and what was
+/// computed, once `stop` is raised.
+pub fn run_model_until<S: Sink>(
+    problem: &crate::problem::Problem,
+    model: &ReducedModel,
+    op: OperatingPoint,
+    duration: f64,
+    sink: S,
+    progress: impl FnMut(f64),
+    stop: StopFlag,
+) -> RunOutput<S> {
     let mut settings = RunSettings::new(duration, problem.simulation.time_step);
     settings.probes = problem.simulation.probes.clone();
     settings.envelope_from = problem.simulation.settling_for(duration);
+    settings.stop = stop;
     simulate_into(
         model,
         op,
