@@ -239,6 +239,22 @@ fn solve_lands_in_the_expected_ranges(file: &Path) -> serde_json::Value {
     // statistics of the slim strings are not: they are reported, not used).
     let check = &s["numerical_check"];
     assert_eq!(check["converged"], true, "{}: {check}", file.display());
+    // What `verify` runs, not the basis alone: every refinement and the perturbation, with the
+    // value of every metric under each.
+    let runs: Vec<&str> = check["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r.as_str().unwrap())
+        .collect();
+    for r in ["basis", "mesh", "tolerance", "window", "perturbed"] {
+        assert!(runs.contains(&r), "{}: {runs:?}", file.display());
+    }
+    for (key, m) in check["metrics"].as_object().unwrap() {
+        let refined = m["refined"].as_object().unwrap();
+        assert_eq!(refined.len(), runs.len() - 1, "{}: {key}", file.display());
+        assert!(m["perturbed"].is_number(), "{}: {key}", file.display());
+    }
     for (key, m) in check["metrics"].as_object().unwrap() {
         if m["used"] == true {
             assert_eq!(m["converged"], true, "{}: {key}", file.display());

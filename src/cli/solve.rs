@@ -70,14 +70,28 @@ pub fn solve_and_report(
     let check = match outcome.best.as_ref() {
         Some(best) => {
             if !quiet {
-                eprintln!("checking the basis at the optimum (nominal parameters, basis x1.5) …");
+                eprintln!(
+                    "checking the numbers at the optimum (nominal parameters; verify's refinements: {} and the perturbation of Ω) …",
+                    crate::verify::refinements(problem)
+                        .iter()
+                        .map(|r| r.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
             }
-            Some(solve::numerical_check(problem, best).map_err(|e| {
-                anyhow::anyhow!(
-                    "basis check at the optimum of {}: {e}",
-                    problem_file.display()
-                )
-            })?)
+            Some(
+                solve::numerical_check(problem, best, |name| {
+                    if !quiet {
+                        eprintln!("  {name} run done");
+                    }
+                })
+                .map_err(|e| {
+                    anyhow::anyhow!(
+                        "numerical check at the optimum of {}: {e}",
+                        problem_file.display()
+                    )
+                })?,
+            )
         }
         None => None,
     };
@@ -188,6 +202,17 @@ fn print_check(c: &NumericalCheck, units: UnitSystem) {
         .filter(|(_, m)| !m.used && !m.converged)
         .map(|(k, _)| *k)
         .collect();
+    // Which refinements moved a metric the problem uses beyond its limit.
+    let mut beyond: Vec<&str> = (c.metrics.values())
+        .filter(|m| m.used)
+        .flat_map(|m| m.beyond_limit.iter().copied())
+        .collect();
+    beyond.sort_unstable();
+    beyond.dedup();
+    let sensitive: Vec<&str> = (c.metrics.iter())
+        .filter(|(_, m)| m.used && m.verdict == crate::verify::Verdict::Sensitive)
+        .map(|(k, _)| *k)
+        .collect();
     let verdict = match (c.converged, unused_moved.is_empty()) {
         (true, true) => "converged".to_string(),
         (true, false) => format!(
@@ -196,26 +221,59 @@ fn print_check(c: &NumericalCheck, units: UnitSystem) {
             unused_moved.join(", ")
         ),
         (false, _) => {
-            "NOT converged (a metric this problem uses moved beyond its limit)".to_string()
+            let mut why = Vec::new();
+            if !beyond.is_empty() {
+                why.push(format!(
+                    "moved beyond its limit by the {} refinement",
+                    beyond.join(", ")
+                ));
+            }
+            if !sensitive.is_empty() {
+                why.push(format!(
+                    "{} sensitive to a 1e-4 change of Ω: the window does not determine it",
+                    sensitive.join(", ")
+                ));
+            }
+            format!(
+                "NOT converged (a metric this problem uses {})",
+                why.join("; ")
+            )
         }
     };
     println!(
-        "numerical check at the optimum (nominal parameters; basis {} → {}): {verdict}",
-        c.basis, c.refined_basis,
+        "numerical check at the optimum (nominal parameters; basis {} → {}; {}): {verdict}",
+        c.basis,
+        c.refined_basis,
+        c.runs.join(", "),
     );
+    print!("  {:<22} {:>7} {:>12}", "metric", "unit", "nominal");
+    let refinements: Vec<&str> = c
+        .runs
+        .iter()
+        .copied()
+        .filter(|r| *r != "perturbed")
+        .collect();
+    for r in &refinements {
+        print!(" {r:>12}");
+    }
     println!(
-        "  {:<22} {:>7} {:>12} {:>12} {:>9} {:>6} {:>5} {:>14}",
-        "metric", "unit", "nominal", "refined", "change", "limit", "used", "sample std dev"
+        " {:>12} {:>9} {:>6} {:>5} {:>14}",
+        "perturbed", "change", "limit", "used", "sample std dev"
     );
     for (key, m) in &c.metrics {
         // In the units of the rest of the terminal (kN, kN·m, MPa, m/h, % or their field units).
         let d = crate::report::MetricDisplay::of_in(key, units);
         let show = |si: f64| super::verify::significant(d.value(si));
+        print!("  {key:<22} {:>7} {:>12}", d.unit, show(m.value));
+        for r in &refinements {
+            print!(
+                " {:>12}",
+                m.refined.get(r).map_or("-".to_string(), |&v| show(v))
+            );
+        }
         println!(
-            "  {key:<22} {:>7} {:>12} {:>12} {:>8.2}% {:>5.0}% {:>5} {:>14}",
-            d.unit,
-            show(m.value),
-            show(m.refined_basis),
+            " {:>12} {:>8.2}% {:>5.0}% {:>5} {:>14}",
+            m.perturbed.map_or("-".to_string(), show),
             100.0 * m.rel_change,
             100.0 * m.limit,
             if m.used { "yes" } else { "no" },

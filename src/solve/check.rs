@@ -1,23 +1,35 @@
-//! The numerical check of an optimum: the basis refinement of `verify` run at the optimum with
-//! nominal parameters, set beside the statistical spread of each decision metric over the samples,
-//! so a report says whether the numbers that decided the optimum are converged.
+//! The numerical check of an optimum: what `drillopt verify` runs (the basis, mesh, integrator
+//! tolerance and window refinements, the smoothing one where a law smooths a set-valued contact,
+//! and the 1e-4 perturbation of Ω) at the optimum with nominal parameters, set beside the
+//! statistical spread of each decision metric over the samples, so a report says whether the
+//! numbers that decided the optimum are converged, and under which refinement they are not.
 
 use crate::problem::Problem;
 use crate::study::PointEvaluation;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 
-/// One decision metric at the optimum: the numerical change under basis refinement (nominal
-/// parameters) against the statistical spread over the Monte Carlo samples.
+/// One decision metric at the optimum: the numerical change under `verify`'s refinements
+/// (nominal parameters) against the statistical spread over the Monte Carlo samples.
 #[derive(Debug, Clone, Serialize)]
 pub struct CheckedMetric {
     /// The nominal model's value with the problem's basis.
     pub value: f64,
     /// The same with every family of the basis enriched 1.5×.
     pub refined_basis: f64,
-    /// |refined − value| / max(|value|, floor), as in `verify`.
+    /// The value of each refined run, by refinement (`basis`, `mesh`, `tolerance`, `window`,
+    /// `smoothing`).
+    pub refined: BTreeMap<&'static str, f64>,
+    /// The value at Ω·(1 + 1e-4).
+    pub perturbed: Option<f64>,
+    /// Largest |refined − value| / max(|value|, floor) over the refinements, as in `verify`.
     pub rel_change: f64,
     pub limit: f64,
+    /// `verify`'s verdict: converged, not converged (a refinement beyond the limit) or
+    /// sensitive (the perturbation alone beyond it).
+    pub verdict: crate::verify::Verdict,
+    /// The refinements that moved it beyond its limit.
+    pub beyond_limit: Vec<&'static str>,
     pub converged: bool,
     /// Whether the problem's score or constraints use the metric ([`metrics_used`]).
     pub used: bool,
@@ -25,11 +37,13 @@ pub struct CheckedMetric {
     pub sample_std_dev: Option<f64>,
 }
 
-/// The basis check at an optimum.
+/// The numerical check at an optimum.
 #[derive(Debug, Clone, Serialize)]
 pub struct NumericalCheck {
     pub basis: crate::rom::BasisCounts,
     pub refined_basis: crate::rom::BasisCounts,
+    /// The refinements run (those of `verify` for this problem), then `perturbed`.
+    pub runs: Vec<&'static str>,
     /// Every metric the problem uses ([`CheckedMetric::used`]) is converged: the optimum rests
     /// on converged numbers.
     pub converged: bool,
@@ -57,18 +71,23 @@ pub fn metrics_used(problem: &Problem) -> BTreeSet<String> {
     used
 }
 
-/// Run the basis check of `verify` at the optimum and set it beside the sample spread.
+/// Run `verify`'s refinements and perturbation at the optimum (nominal parameters, the
+/// problem's window) and set them beside the sample spread. `progress` is told the name of each
+/// run as it finishes.
 pub fn numerical_check(
     problem: &Problem,
     best: &PointEvaluation,
+    progress: impl Fn(&str) + Sync,
 ) -> Result<NumericalCheck, crate::verify::VerifyError> {
-    use crate::verify::{Refinement, VerifySettings, verify_with};
+    use crate::verify::{Refinement, VerifySettings, refinements, verify_with};
     let settings = VerifySettings {
         op: best.op(),
         duration: problem.simulation.duration,
         settling: problem.simulation.settling_time,
     };
-    let report = verify_with(problem, settings, &[Refinement::Basis], |_| {})?;
+    let mut runs = refinements(problem);
+    runs.push(Refinement::Perturbed);
+    let report = verify_with(problem, settings, &runs, progress)?;
     let spread = |key: &str| {
         let values: Vec<f64> = best
             .samples
@@ -95,8 +114,12 @@ pub fn numerical_check(
                 CheckedMetric {
                     value: v.value,
                     refined_basis: v.refined[Refinement::Basis.name()],
+                    refined: v.refined.clone(),
+                    perturbed: v.perturbed,
                     rel_change: v.max_rel_change,
                     limit: v.limit,
+                    verdict: v.verdict,
+                    beyond_limit: v.beyond_limit.clone(),
                     converged: v.converged,
                     used: used.contains(key),
                     sample_std_dev: spread(key),
@@ -107,6 +130,7 @@ pub fn numerical_check(
     Ok(NumericalCheck {
         basis: report.basis,
         refined_basis: report.refined_basis,
+        runs: runs.iter().map(|r| r.name()).collect(),
         converged: metrics.values().all(|m| m.converged || !m.used),
         all_converged: report.converged,
         metrics,
