@@ -120,3 +120,35 @@ fn batch_refuses_a_second_problem_of_the_same_name_instead_of_overwriting_the_fi
     assert!(solution.contains("a.toml") && !solution.contains("b.toml"));
     assert!(!out.join("tiny_string/cache.jsonl.old").exists());
 }
+
+#[test]
+fn a_second_run_into_the_same_directory_says_that_it_set_the_first_ones_cache_aside() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    let args = [
+        "compare",
+        TINY,
+        "--point",
+        "60rpm,5m/h",
+        "--threads",
+        "1",
+        "--out",
+        out,
+    ];
+    let first = drillopt(&args);
+    assert!(first.status.success());
+    assert!(!String::from_utf8_lossy(&first.stderr).contains("cache.jsonl.old"));
+    let second = drillopt(&args);
+    let err = String::from_utf8_lossy(&second.stderr);
+    assert!(second.status.success(), "{err}");
+    assert!(
+        err.contains("held an earlier run's evaluations; moved to")
+            && err.contains("cache.jsonl.old")
+            && err.contains("--resume"),
+        "{err}"
+    );
+    assert!(dir.path().join("cache.jsonl.old").exists());
+    // With --quiet the move is made and not said.
+    let quiet = drillopt(&[&args[..], &["--quiet"]].concat());
+    assert!(!String::from_utf8_lossy(&quiet.stderr).contains("moved to"));
+}

@@ -85,7 +85,7 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
         .collect::<anyhow::Result<Vec<_>>>()?;
     let out = study::out_dir(&args.run.out, &problem, "compare")?;
     let clock = Instant::now();
-    let cache = study::open_cache(&out, args.run.resume)?;
+    let cache = study::open_cache(&out, args.run.resume, args.run.quiet)?;
     let bar = study::progress_bar(
         args.run.quiet,
         (ops.len() * problem.study.samples.max(1)) as u64,

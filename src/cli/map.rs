@@ -53,7 +53,7 @@ pub fn run(args: &MapArgs, units: UnitSystem) -> anyhow::Result<()> {
     };
     let out = study::out_dir(&args.run.out, &problem, "map")?;
     let clock = Instant::now();
-    let cache = study::open_cache(&out, args.run.resume)?;
+    let cache = study::open_cache(&out, args.run.resume, args.run.quiet)?;
     let bar = study::progress_bar(
         args.run.quiet,
         (grid[0] * grid[1] * problem.study.samples.max(1)) as u64,

@@ -34,7 +34,7 @@ pub fn solve_and_report(
     units: UnitSystem,
 ) -> anyhow::Result<SolveOutcome> {
     let clock = Instant::now();
-    let cache = study::open_cache(out, resume)?;
+    let cache = study::open_cache(out, resume, quiet)?;
     let settings = &problem.study.optimizer;
     let per_point = problem.study.samples.max(1) as u64;
     // Multi-fidelity: the problem at [optimizer.explore]'s fidelity explores, the full confirms.

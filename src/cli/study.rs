@@ -109,7 +109,9 @@ pub fn out_dir(out: &Option<PathBuf>, problem: &Problem, command: &str) -> anyho
 
 /// Open the evaluation cache `<out>/cache.jsonl`: continued with `resume`, else started afresh
 /// (an old cache is kept beside as `cache.jsonl.old`).
-pub fn open_cache(out: &Path, resume: bool) -> anyhow::Result<EvalCache> {
+/// Without `resume`, an earlier run's cache in `out` is moved aside to `cache.jsonl.old` (said on
+/// standard error unless `quiet`), so that nothing is lost and the run starts afresh.
+pub fn open_cache(out: &Path, resume: bool, quiet: bool) -> anyhow::Result<EvalCache> {
     let path = out.join("cache.jsonl");
     anyhow::ensure!(
         !EvalCache::in_use(&path)?,
@@ -117,8 +119,16 @@ pub fn open_cache(out: &Path, resume: bool) -> anyhow::Result<EvalCache> {
         path.display()
     );
     if !resume && path.exists() {
-        std::fs::rename(&path, out.join("cache.jsonl.old"))
+        let old = out.join("cache.jsonl.old");
+        std::fs::rename(&path, &old)
             .with_context(|| format!("moving the old cache {} aside", path.display()))?;
+        if !quiet {
+            eprintln!(
+                "note: {} held an earlier run's evaluations; moved to {} (--resume reuses them instead)",
+                path.display(),
+                old.display()
+            );
+        }
     }
     Ok(EvalCache::open(&path)?)
 }

@@ -137,6 +137,7 @@ impl Dimension {
             Dimension::Pressure => &[
                 ("Pa", 1.0),
                 ("kPa", 1e3),
+                ("bar", 1e5),
                 ("MPa", 1e6),
                 ("GPa", 1e9),
                 ("psi", PSI_PA),
@@ -391,6 +392,8 @@ mod tests {
         assert_eq!(Dimension::Length.parse("7 cm").unwrap(), 0.07);
         assert_eq!(Dimension::Length.parse("2 km").unwrap(), 2000.0);
         assert_eq!(Dimension::Length.parse("1 ft").unwrap(), 0.3048);
+        // 1 bar = 100 kPa (ISO 80000-4).
+        assert_eq!(Dimension::Pressure.parse("200 bar").unwrap(), 2e7);
         for v in [1.0, 3.0, 10.0, 20.0, 30.0, 40.0, 105.0, 123.456] {
             assert_eq!(
                 Dimension::Time.parse(&format!("{v} us")).unwrap(),
