@@ -115,3 +115,46 @@ fn batch_skips_the_benchmark() {
     assert!(!run.status.success());
     assert!(!out.join("seed_study").exists(), "nothing solved");
 }
+
+/// The README's tour quotes the committed robust solve (`results/seed_robust/solve/`): its optimum,
+/// score and interval, points and simulations are that solution.json's, so the README cannot go
+/// stale without this test failing (the same sentence in docs/problems.md too).
+#[test]
+fn the_readme_quotes_the_committed_seed_robust_solve() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let s: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(format!("{root}/results/seed_robust/solve/solution.json"))
+            .unwrap(),
+    )
+    .unwrap();
+    let o = &s["optimum"];
+    let optimum = format!(
+        "**Ω = {:.1} rpm, V0 = {:.2} m/h**",
+        o["omega_rpm"].as_f64().unwrap(),
+        o["v0_m_per_h"].as_f64().unwrap()
+    );
+    let score = format!(
+        "score {:.2} ± {:.2}",
+        s["objective"]["score"].as_f64().unwrap(),
+        s["objective"]["score_half_width"].as_f64().unwrap()
+    );
+    let w = &s["work"];
+    let runs =
+        w["simulations_run"].as_u64().unwrap() + w["simulations_from_cache"].as_u64().unwrap();
+    let work = format!(
+        "{} points, {runs} simulations",
+        s["evaluations"].as_array().unwrap().len()
+    );
+    assert_eq!(s["status"], "converged");
+    for doc in ["README.md", "docs/problems.md"] {
+        // The sentence wraps where the markdown does: compare with whitespace collapsed.
+        let text = std::fs::read_to_string(format!("{root}/{doc}")).unwrap();
+        let text: String = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        for quoted in [&optimum, &score, &work] {
+            assert!(
+                text.contains(quoted.as_str()),
+                "{doc} does not say {quoted:?}"
+            );
+        }
+    }
+}
