@@ -189,7 +189,7 @@ pub fn run(args: &BatchArgs, units: crate::units::UnitSystem) -> anyhow::Result<
                 pass: false,
                 detail: format!("error: {}", super::error_text(&e)),
             },
-            Ok(outcome) => match outcome.best {
+            Ok((outcome, numbers)) => match outcome.best {
                 None => Verdict {
                     problem: problem.name.clone(),
                     pass: false,
@@ -216,6 +216,14 @@ pub fn run(args: &BatchArgs, units: crate::units::UnitSystem) -> anyhow::Result<
                                 detail = format!("{detail}, held by {}", names.join(", "));
                             }
                         }
+                    }
+                    // Not judged (a regression set may be kept cheap), but said.
+                    if let Some(c) = &numbers {
+                        detail.push_str(if c.converged {
+                            "; numerical check converged"
+                        } else {
+                            "; numerical check NOT converged"
+                        });
                     }
                     Verdict {
                         problem: problem.name.clone(),

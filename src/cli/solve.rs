@@ -32,7 +32,7 @@ pub fn solve_and_report(
     quiet: bool,
     print: bool,
     units: UnitSystem,
-) -> anyhow::Result<SolveOutcome> {
+) -> anyhow::Result<(SolveOutcome, Option<NumericalCheck>)> {
     let clock = Instant::now();
     let cache = study::open_cache(out, resume, quiet)?;
     let settings = &problem.study.optimizer;
@@ -107,7 +107,7 @@ pub fn solve_and_report(
             print_check(c, units);
         }
     }
-    Ok(outcome)
+    Ok((outcome, check))
 }
 
 fn print_summary(
@@ -290,7 +290,7 @@ pub fn run(args: &SolveArgs, units: UnitSystem) -> anyhow::Result<()> {
     study::apply_overrides(&mut problem, &args.problem, &args.run, args.budget)?;
     study::start_threads(args.run.threads)?;
     let out = study::out_dir(&args.run.out, &problem, "solve")?;
-    let outcome = solve_and_report(
+    let (outcome, _) = solve_and_report(
         &problem,
         &args.problem,
         &out,
