@@ -170,3 +170,34 @@ fn a_value_of_the_wrong_type_does_not_hide_the_other_refusals() {
         "{err}"
     );
 }
+
+#[test]
+fn a_misspelt_required_key_does_not_hide_the_other_refusals() {
+    // `max_probabilty` for `max_probability` in a chance constraint: the unknown key, the
+    // missing one, and the file's other mistakes (a value of the wrong type, one out of range)
+    // in one pass.
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/regression/slim_pipe_fatigue.toml"
+    ))
+    .unwrap();
+    let first = "threshold = \"0.05 1/h\"\nmax_probability = 0.1";
+    assert_eq!(text.matches(first).count(), 1);
+    let poisson = "poisson_ratio = 0.3";
+    assert_eq!(text.matches(poisson).count(), 1);
+    let text = text
+        .replace(first, "threshold = \"0.05 1/h\"\nmax_probabilty = 0.1")
+        .replace(poisson, "poisson_ratio = 0.7");
+    let text = text.replacen("elements = ", "elements = \"many\" # ", 1);
+    let err = Problem::from_toml(&text, Path::new(FILE)).expect_err("refused");
+    let keys: Vec<&str> = err.key_errors().iter().map(|e| e.key.as_str()).collect();
+    for key in [
+        "constraints.chance[0].max_probabilty",
+        "constraints.chance[0].max_probability",
+        "mesh.elements",
+        "model.pipe.poisson_ratio",
+    ] {
+        assert!(keys.contains(&key), "{key}: {err}");
+    }
+    assert!(err.to_string().contains("missing field"), "{err}");
+}

@@ -407,3 +407,34 @@ fn an_outer_diameter_and_a_linear_weight_give_the_bore() {
     assert_eq!(err.key(), Some("model.section[0].inner_radius"), "{err}");
     assert!(err.to_string().contains("linear_weight"), "{err}");
 }
+
+/// The radial probe's plot draws the wall at the probe's own gap: on the drill pipe of
+/// `problems/bha_example.toml` (5.5 in in an 8.5 in hole: 38.1 mm), not the near-gauge
+/// stabiliser's 1.5875 mm, the smallest gap of the string.
+#[test]
+fn a_probe_on_the_drill_pipe_draws_the_wall_at_the_pipes_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/bha_example.toml");
+    let out = dir.path().join("run");
+    let o = common::drillopt(&[
+        "simulate",
+        file,
+        "--duration",
+        "0.05",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let svg = std::fs::read_to_string(out.join("radial_x200m.svg")).unwrap();
+    let pipe_gap_mm = (0.108 - 0.5 * 5.5 * 0.0254) * 1e3;
+    assert!(
+        svg.contains(&format!("wall, r = gap = {pipe_gap_mm:.4} mm")),
+        "{}",
+        svg.lines()
+            .filter(|l| l.contains("gap"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+    assert!(svg.contains("Radial displacement at x = 200 m,"));
+}

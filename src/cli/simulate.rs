@@ -378,9 +378,14 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         csv.finish()?;
         report::plot_bit_axial(s, &op, units, &out.join("bit_axial.svg"))?;
         report::plot_bit_rotation(s, &op, units, &out.join("bit_rotation.svg"))?;
+        // Each probe's wall at its own gap: the hole less its section's outer radius (the
+        // smallest gap of the string is a stabiliser's, not the drill pipe's).
+        let layout = crate::fem::ElementLayout::of(&problem.model, problem.mesh.elements);
         for (k, x) in s.probe_positions.iter().enumerate() {
             let name = format!("radial_x{}m.svg", report::probe_label(*x));
-            report::plot_probe_radial(s, k, problem.model.gap(), &op, units, &out.join(name))?;
+            let (e, _) = layout.locate(*x);
+            let gap = problem.model.borehole_radius - layout.kinds()[layout.kind(e)].outer_radius;
+            report::plot_probe_radial(s, k, gap, &op, units, &out.join(name))?;
         }
         let envelope = &output.envelope;
         if envelope.rainflow_overflows > 0 {

@@ -145,6 +145,31 @@ fn print_summary(
         }
         None => study::print_table(&outcome.evaluations, &t),
     }
+    // Points whose simulations failed are infeasible to the optimizer for a numerical reason,
+    // not a physical one: said, so that an optimum next to them is read with care.
+    let failed: Vec<&crate::study::PointEvaluation> = (outcome.evaluations.iter())
+        .filter(|p| {
+            p.samples
+                .iter()
+                .any(|s| matches!(s.outcome, crate::study::SampleOutcome::Failed(_)))
+        })
+        .collect();
+    if let Some(first) = failed.first() {
+        println!(
+            "  note: {} of {} points had a simulation that failed (a numerical failure, counted infeasible; the first at Ω = {:.1} rpm: {}); evaluations.csv's `failure` column says each",
+            failed.len(),
+            outcome.evaluations.len(),
+            first.omega_rpm,
+            first
+                .samples
+                .iter()
+                .find_map(|s| match &s.outcome {
+                    crate::study::SampleOutcome::Failed(why) => Some(why.as_str()),
+                    _ => None,
+                })
+                .unwrap_or("")
+        );
+    }
     let label = if outcome.status.is_optimum() {
         "optimum".to_string()
     } else {
@@ -155,7 +180,7 @@ fn print_summary(
     };
     let held_by = || {
         if let (Some(b), Some(k)) = (&outcome.best, &problem.study.constraints) {
-            study::print_held_by(k, b, &outcome.evaluations, units);
+            study::print_held_by(k, b, &outcome.evaluations, &t);
         }
         if let Some(b) = &outcome.best {
             for w in crate::solve::warnings(b, &problem.study.metrics_named()) {

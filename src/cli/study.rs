@@ -354,8 +354,9 @@ pub fn print_held_by(
     constraints: &crate::problem::study::Constraints,
     best: &PointEvaluation,
     evaluated: &[PointEvaluation],
-    units: UnitSystem,
+    t: &TableUnits,
 ) {
+    let units = t.units;
     let activity = crate::solve::activity(constraints, best, evaluated);
     let held: Vec<String> = activity
         .iter()
@@ -385,6 +386,31 @@ pub fn print_held_by(
         println!("  held by no constraint of the study: an interior optimum of the score");
     } else {
         println!("  held by: {}", held.join("; "));
+    }
+    // What a binding bound costs: the local slope of the score (a plane through the points
+    // evaluated around the optimum), per unit of the bound moved outward.
+    if let Some(s) = crate::solve::score_slope(constraints, best, evaluated) {
+        let kind = constraints.kind;
+        let (set_unit, set_factor) = units.convert_metric(kind.unit());
+        let (score_unit, score_factor) = t.score;
+        for a in activity.iter().filter(|a| a.at_limit) {
+            let (per, unit) = match a.name.rsplit_once('.') {
+                Some(("omega", "min")) => (-s.per_rpm, "rpm"),
+                Some(("omega", "max")) => (s.per_rpm, "rpm"),
+                Some((k, "min")) if k == kind.key() => (-s.per_set_point / set_factor, set_unit),
+                Some((k, "max")) if k == kind.key() => (s.per_set_point / set_factor, set_unit),
+                _ => continue,
+            };
+            println!(
+                "  {}: moving it 1 {unit} outward would change the score by about {:+.3}{}{} (the slope of a plane through {} points evaluated within {:.0} % of the box around the optimum)",
+                a.name,
+                score_factor * per,
+                if score_unit.is_empty() { "" } else { " " },
+                score_unit,
+                s.points,
+                100.0 * s.radius
+            );
+        }
     }
     let m = |k: &str| best.mean_metrics.get(k).copied().unwrap_or(0.0);
     for (key, what) in [

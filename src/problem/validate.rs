@@ -101,11 +101,15 @@ pub(super) fn parse(text: &str, file: &Path) -> Result<Parsed, ProblemError> {
             continue;
         }
         if message.starts_with("missing field") {
-            // Missing because a mistyped value was taken out (already reported): a stand-in so
-            // that the rest is read; else a required key the file lacks, which ends the pass.
+            // Missing because a mistyped value was taken out (already reported), or a required
+            // key the file lacks (a misspelt one among the unknown keys): reported, and a
+            // stand-in so that the rest of the file is read and checked in the same pass.
             if !removed.contains(&key) {
-                errors.push(KeyError { key, message });
-                break;
+                errors.push(KeyError {
+                    key: key.clone(),
+                    message,
+                });
+                mistyped.push(key.clone());
             }
             let path: Vec<&str> = at.iter().map(String::as_str).collect();
             let [first, ..] = stand_ins();

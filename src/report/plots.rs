@@ -252,13 +252,16 @@ pub fn plot_probe_radial(
     let wall_label = format!("wall, r = gap = {wall:.4} {size_unit}");
     let title = match units {
         // The probe's position as the problem gives it (SI).
+        // The position to the mm (457.20000000000005 m is 457.2 m).
         UnitSystem::Metric => format!(
-            "Radial displacement at x = {x} m, {}",
+            "Radial displacement at x = {} m, {}",
+            super::probe_label(x),
             operating_point_text(op, units)
         ),
         UnitSystem::Field => format!(
-            "Radial displacement at x = {} ft ({x} m), {}",
+            "Radial displacement at x = {} ft ({} m), {}",
             short(units.of(Shown::Position, x)),
+            super::probe_label(x),
             operating_point_text(op, units)
         ),
     };

@@ -238,6 +238,10 @@ pub struct ConstraintsJson {
     pub activity: Vec<crate::solve::Activity>,
     /// The names of those at their limit: what holds the optimum (`[expect] active`'s names).
     pub held_by: Vec<String>,
+    /// The local slope of the score at the optimum ([`crate::solve::score_slope`]): what moving
+    /// a binding bound would give; null when the evaluated points around it do not determine a
+    /// plane.
+    pub score_slope: Option<crate::solve::ScoreSlope>,
 }
 
 impl ConstraintsJson {
@@ -271,6 +275,7 @@ impl ConstraintsJson {
                 })
                 .collect(),
             chance: best.chance.clone(),
+            score_slope: crate::solve::score_slope(c, best, evaluated),
             held_by: activity
                 .iter()
                 .filter(|a| a.at_limit)

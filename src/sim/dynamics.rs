@@ -421,6 +421,12 @@ impl<'m> Dynamics<'m> {
         self.rigid_axial = [velocity, acceleration];
     }
 
+    /// The radial gap between node `k` and the wall, m (its section's: the hole less its outer
+    /// radius).
+    pub fn node_gap(&self, k: usize) -> f64 {
+        self.walls[k].gap
+    }
+
     /// The operating point (Ω, and the feed V0 or the autodriller's set-point).
     pub fn op(&self) -> OperatingPoint {
         self.op

@@ -7,6 +7,7 @@ mod activity;
 mod check;
 mod multi_fidelity;
 mod scaling;
+mod slope;
 
 #[cfg(test)]
 pub(crate) use activity::tests as activity_tests;
@@ -17,6 +18,7 @@ pub use activity::{
 pub use check::{CheckedMetric, NumericalCheck, numerical_check};
 pub use multi_fidelity::{Candidate, Confirmation, Refinement, candidates, solve_multi_fidelity};
 pub use scaling::Scaling;
+pub use slope::{FIT_RADIUS, ScoreSlope, score_slope};
 
 use crate::model::OperatingPoint;
 use crate::optimize::{
