@@ -20,7 +20,15 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 21] = [
+const SHIPPED: [(&str, &str); 23] = [
+    (
+        "problems/field/well_1km.toml",
+        include_str!("../problems/field/well_1km.toml"),
+    ),
+    (
+        "problems/field/lateral_200m.toml",
+        include_str!("../problems/field/lateral_200m.toml"),
+    ),
     (
         "problems/long_collars_rgd_stick.toml",
         include_str!("../problems/long_collars_rgd_stick.toml"),

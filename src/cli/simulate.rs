@@ -630,6 +630,15 @@ fn print_summary(
         if let Some(w) = yield_warning(m, u) {
             eprintln!("{w}");
         }
+        // As solve warns at its optimum: a rotation speed near a critical speed.
+        if m.critical_speed_margin < crate::solve::CRITICAL_SPEED_WARNING {
+            eprintln!(
+                "warning: Ω is {:.1} % from a critical speed of the string (critical_speed_margin {:.4}, below {}): `drillopt campbell` lists them",
+                100.0 * m.critical_speed_margin,
+                m.critical_speed_margin,
+                crate::solve::CRITICAL_SPEED_WARNING
+            );
+        }
         // The ratio is the rate law's slope at the feed the bit drills (V0, or the mean ROP of a
         // free top); an autodriller that holds its WOB limit most of the window fixes the depth of
         // cut, and the law's torque no longer falls with the spin (docs/model.md, "The driller's top"):
