@@ -49,7 +49,9 @@ fn the_key_is_read_in_any_density_unit_and_refused_outside_its_range_by_name() {
     for (value, words) in [
         ("\"5000 kg/m^3\"", "in [0, 3000] kg/m3"),
         ("\"-1 kg/m^3\"", "must be in [0, 3000] kg/m3"),
-        ("\"1.2 bar\"", "unknown unit"),
+        ("\"1.2 furlong\"", "unknown unit"),
+        // A pressure for a density: said as the wrong dimension.
+        ("\"1.2 bar\"", "the wrong dimension: the value is a density"),
     ] {
         let err = load(&with_annulus(value)).unwrap_err();
         let msg = err.to_string();

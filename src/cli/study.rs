@@ -393,6 +393,21 @@ pub fn print_held_by(
         let kind = constraints.kind;
         let (set_unit, set_factor) = units.convert_metric(kind.unit());
         let (score_unit, score_factor) = t.score;
+        // With another constraint at its limit too (a line, a chance constraint), moving one
+        // bound alone does not move the optimum: the slope is what the score does, not what
+        // the bound is worth.
+        let bounds = [
+            "omega.min",
+            "omega.max",
+            &format!("{}.min", kind.key()),
+            &format!("{}.max", kind.key()),
+        ]
+        .map(String::from);
+        let others = activity
+            .iter()
+            .filter(|a| a.at_limit && !bounds.contains(&a.name))
+            .map(|a| a.name.as_str())
+            .collect::<Vec<_>>();
         for a in activity.iter().filter(|a| a.at_limit) {
             let (per, unit) = match a.name.rsplit_once('.') {
                 Some(("omega", "min")) => (-s.per_rpm, "rpm"),
@@ -402,13 +417,21 @@ pub fn print_held_by(
                 _ => continue,
             };
             println!(
-                "  {}: moving it 1 {unit} outward would change the score by about {:+.3}{}{} (the slope of a plane through {} points evaluated within {:.0} % of the box around the optimum)",
+                "  {}: moving it 1 {unit} outward would change the score by about {:+.3}{}{} (the slope of a plane through {} points evaluated within {:.0} % of the box around the optimum{})",
                 a.name,
                 score_factor * per,
                 if score_unit.is_empty() { "" } else { " " },
                 score_unit,
                 s.points,
-                100.0 * s.radius
+                100.0 * s.radius,
+                if others.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        "; {} binds here too, so moving this bound alone does not move the optimum",
+                        others.join(", ")
+                    )
+                }
             );
         }
     }
