@@ -179,6 +179,19 @@ fn a_multi_fidelity_solve_over_omega_and_wob() {
         );
         assert!((e - f).abs() < 1e-6 * f.abs(), "{k}");
     }
+    // The optimizer path's title says what holds the optimum, as the terminal does.
+    let held: Vec<&str> = s["constraints"]["held_by"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| h.as_str().unwrap())
+        .collect();
+    assert_eq!(held, ["chance.fatigue_damage_per_h"], "{stdout}");
+    let svg = std::fs::read_to_string(out.join("optimizer_path.svg")).unwrap();
+    assert!(
+        svg.contains("optimum held by chance.fatigue_damage_per_h"),
+        "no held-by in the title"
+    );
     // The optimum is a confirmed, feasible candidate; the explore favourite was not feasible.
     assert_eq!(candidates[0]["full_feasible"], false, "{c}");
     assert!(candidates.iter().any(

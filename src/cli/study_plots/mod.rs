@@ -213,6 +213,19 @@ pub fn solve_plots(
         .as_ref()
         .map(|b| (b.omega_rpm, axis.of_si(b.op().set_point(c.kind))));
     let score = score_factor(problem.study.quantity, units);
+    // What holds the optimum, in the title as on the terminal ([`crate::solve::activity`]).
+    let held = o.best.as_ref().map_or(String::new(), |b| {
+        let names: Vec<String> = crate::solve::activity(c, b, &o.evaluations)
+            .into_iter()
+            .filter(|a| a.at_limit)
+            .map(|a| a.name)
+            .collect();
+        if names.is_empty() {
+            "; optimum held by no constraint".to_string()
+        } else {
+            format!("; optimum held by {}", names.join(", "))
+        }
+    });
     report::plot_optimizer_path(
         &region,
         &evaluated(&o.evaluations, units, score),
@@ -221,11 +234,11 @@ pub fn solve_plots(
         &match o.confirmation {
             // The path is the exploration's; the optimum is the best confirmed point.
             Some(_) => format!(
-                "{}: {} path (explore fidelity), optimum at full fidelity",
+                "{}: {} path (explore fidelity), optimum at full fidelity{held}",
                 problem.name,
                 o.method.name()
             ),
-            None => format!("{}: {} path", problem.name, o.method.name()),
+            None => format!("{}: {} path{held}", problem.name, o.method.name()),
         },
         &out.join("optimizer_path.svg"),
     )?;
