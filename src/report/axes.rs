@@ -190,7 +190,9 @@ pub(super) fn axis_range(values: impl IntoIterator<Item = f64>, pad: f64) -> (f6
     }
     let span = hi - lo;
     let magnitude = lo.abs().max(hi.abs());
-    if !span.is_finite() || span <= 1e-12 * magnitude {
+    // A span below a millionth of the values is round-off on a constant signal (a bit turning
+    // steadily at 59.99999999950 rpm): drawn as a constant, not over ticks of 12 digits.
+    if !span.is_finite() || span <= 1e-6 * magnitude {
         let half = if magnitude > 0.0 {
             0.05 * magnitude
         } else {
@@ -336,6 +338,9 @@ mod tests {
         let (lo, hi) = axis_range([-2e-9, -2e-9], 0.05);
         assert!(lo < -2e-9 && hi > -2e-9 && hi < 0.0, "{lo} {hi}");
         assert_eq!(axis_range([f64::NAN], 0.05), (0.0, 1.0));
+        // Round-off on a steady 60 rpm: padded as a constant (ticks of a few digits).
+        let (lo, hi) = axis_range([59.9999999995, 60.0000000001], 0.05);
+        assert!(lo < 57.1 && hi > 62.9, "{lo} {hi}");
         assert_eq!(axis_range(std::iter::empty(), 0.05), (0.0, 1.0));
     }
 
