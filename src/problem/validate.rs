@@ -200,54 +200,38 @@ fn plain_shape(key: String, message: String, text: &str) -> (String, String) {
     (key, format!("must be {expected_words}, got {got}"))
 }
 
-/// Remove the table key at `path` (table keys and `[i]` array indices on the way) from `value`;
-/// whether it was there. An array element is not removed: the indices after it would shift.
-fn remove_key(value: &mut toml::Value, path: &[&str]) -> bool {
-    let Some((last, parents)) = path.split_last() else {
-        return false;
-    };
+/// The table that holds the last key of `path` (table keys and `[i]` array indices on the way)
+/// in `value`, and that key; `None` when the way is not there or does not end at a table.
+fn parent_table<'v, 'p>(
+    value: &'v mut toml::Value,
+    path: &[&'p str],
+) -> Option<(&'v mut toml::Table, &'p str)> {
+    let (last, parents) = path.split_last()?;
     let mut v = value;
     for seg in parents {
-        let next = match (v, seg.strip_prefix('[').and_then(|s| s.strip_suffix(']'))) {
+        v = match (v, seg.strip_prefix('[').and_then(|s| s.strip_suffix(']'))) {
             (toml::Value::Array(a), Some(i)) => i.parse::<usize>().ok().and_then(|i| a.get_mut(i)),
             (toml::Value::Table(t), None) => t.get_mut(*seg),
             _ => None,
-        };
-        match next {
-            Some(n) => v = n,
-            None => return false,
-        }
+        }?;
     }
     match v {
-        toml::Value::Table(t) => t.remove(*last).is_some(),
-        _ => false,
+        toml::Value::Table(t) => Some((t, *last)),
+        _ => None,
     }
 }
 
-/// Insert `value` as the table key at `path` (as [`remove_key`] walks it); whether it could.
+/// Remove the table key at `path` from `value` ([`parent_table`]); whether it was there. An array
+/// element is not removed: the indices after it would shift.
+fn remove_key(value: &mut toml::Value, path: &[&str]) -> bool {
+    parent_table(value, path).is_some_and(|(t, key)| t.remove(key).is_some())
+}
+
+/// Insert `new` as the table key at `path` in `value` ([`parent_table`]); whether it could.
 fn insert_key(value: &mut toml::Value, path: &[&str], new: toml::Value) -> bool {
-    let Some((last, parents)) = path.split_last() else {
-        return false;
-    };
-    let mut v = value;
-    for seg in parents {
-        let next = match (v, seg.strip_prefix('[').and_then(|s| s.strip_suffix(']'))) {
-            (toml::Value::Array(a), Some(i)) => i.parse::<usize>().ok().and_then(|i| a.get_mut(i)),
-            (toml::Value::Table(t), None) => t.get_mut(*seg),
-            _ => None,
-        };
-        match next {
-            Some(n) => v = n,
-            None => return false,
-        }
-    }
-    match v {
-        toml::Value::Table(t) => {
-            t.insert((*last).to_string(), new);
-            true
-        }
-        _ => false,
-    }
+    parent_table(value, path)
+        .map(|(t, key)| t.insert(key.to_string(), new))
+        .is_some()
 }
 
 /// The key named in serde's "missing field `x`" / "unknown field `x`" messages.

@@ -260,19 +260,20 @@ pub fn sparse_generalized_eigen(
             break;
         }
     }
-    if converged < count {
+    // The dense solver for a family Lanczos left short, while it is small enough; else the count
+    // reached.
+    let fallback = |converged: usize| {
         if n <= DENSE_FALLBACK {
-            return generalized_symmetric_eigen(
-                k.to_dense().as_ref(),
-                m.to_dense().as_ref(),
-                count,
-                par,
-            );
+            generalized_symmetric_eigen(k.to_dense().as_ref(), m.to_dense().as_ref(), count, par)
+        } else {
+            Err(EigenError::NoConvergence {
+                converged,
+                asked: count,
+            })
         }
-        return Err(EigenError::NoConvergence {
-            converged,
-            asked: count,
-        });
+    };
+    if converged < count {
+        return fallback(converged);
     }
     // φ = L⁻ᵀ y, then Rayleigh–Ritz on (K, M) in span φ.
     l.solve_lt(y.as_mut());
@@ -290,18 +291,7 @@ pub fn sparse_generalized_eigen(
         // NaN fails too. The tolerance of Lanczos is relative to the largest θ = 1/λ₁, so the
         // highest of hundreds of pairs may miss it: then the dense solver, as above.
         if r.is_nan() || r > RESIDUAL_TOLERANCE * scale {
-            if n <= DENSE_FALLBACK {
-                return generalized_symmetric_eigen(
-                    k.to_dense().as_ref(),
-                    m.to_dense().as_ref(),
-                    count,
-                    par,
-                );
-            }
-            return Err(EigenError::NoConvergence {
-                converged: j,
-                asked: count,
-            });
+            return fallback(j);
         }
     }
     Ok((values, vectors))
