@@ -1212,31 +1212,20 @@ pub fn run_model(
     progress: impl FnMut(f64),
 ) -> RunOutput {
     let series = TimeSeries::with_probes(&problem.simulation.probes, 0);
-    run_model_into(problem, model, op, duration, series, progress)
-}
-
-/// [`run_model`] sending each accepted step to `sink` (see [`simulate_into`]).
-pub fn run_model_into<S: Sink>(
-    problem: &crate::problem::Problem,
-    model: &ReducedModel,
-    op: OperatingPoint,
-    duration: f64,
-    sink: S,
-    progress: impl FnMut(f64),
-) -> RunOutput<S> {
     run_model_until(
         problem,
         model,
         op,
         duration,
-        sink,
+        series,
         progress,
         StopFlag::default(),
     )
 }
 
-/// [`run_model_into`] that ends early, with [`SimulationError::Interrupted`] and what was
-/// computed, once `stop` is raised.
+/// [`run_model`] sending each accepted step to `sink` (see [`simulate_into`]), ending early with
+/// [`SimulationError::Interrupted`] and what was computed once `stop` is raised (never, with
+/// `StopFlag::default()`).
 pub fn run_model_until<S: Sink>(
     problem: &crate::problem::Problem,
     model: &ReducedModel,
