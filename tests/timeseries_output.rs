@@ -145,6 +145,7 @@ fn the_flag_refuses_a_bad_interval_naming_the_flag_and_key() {
 /// Ctrl-C during `simulate` (SIGINT; SIGTERM alike): the run stops after the step in progress and
 /// writes what it had: the time series renamed into place (no hidden temporary file left), a
 /// summary with status `interrupted` and the time it stopped, and an exit status that is not 0.
+/// While it runs, a second `simulate` on the same `--out` is refused.
 #[cfg(unix)]
 #[test]
 fn an_interrupted_simulate_writes_what_it_had_and_leaves_no_temporary_file() {
@@ -164,7 +165,7 @@ fn an_interrupted_simulate_writes_what_it_had_and_leaves_no_temporary_file() {
         std::fs::read_dir(out).map_or(Vec::new(), |d| {
             d.flatten()
                 .map(|e| e.file_name().to_string_lossy().into_owned())
-                .filter(|n| n.starts_with('.'))
+                .filter(|n| n.starts_with('.') && n != ".drillopt.lock")
                 .collect()
         })
     };
@@ -174,6 +175,20 @@ fn an_interrupted_simulate_writes_what_it_had_and_leaves_no_temporary_file() {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
     std::thread::sleep(std::time::Duration::from_millis(1500));
+    // A second run on the same folder is refused while the first holds it (it replaced the
+    // first one's results before), and leaves the first running.
+    let second = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args(["simulate", FILE, "--duration", "0.01", "--quiet", "--out"])
+        .arg(&out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let refusal = String::from_utf8_lossy(&second.stderr);
+    assert!(!second.status.success(), "{refusal}");
+    assert!(
+        refusal.contains("in use by another drillopt run") && refusal.contains("--out"),
+        "{refusal}"
+    );
     // SAFETY: a plain kill(2) of our own child.
     assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
     let output = child.wait_with_output().unwrap();

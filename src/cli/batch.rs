@@ -128,7 +128,7 @@ pub fn run(args: &BatchArgs, units: crate::units::UnitSystem) -> anyhow::Result<
     let mut files = Vec::new();
     toml_files(&args.dir, &mut files)?;
     super::study::start_threads(args.run.threads)?;
-    super::create_out_dir(&out_root(&args.run.out))?;
+    let _root_lock = super::create_out_dir(&out_root(&args.run.out))?;
     let mut verdicts = Vec::new();
     let mut written: std::collections::BTreeMap<String, PathBuf> = Default::default();
     for file in &files {
@@ -173,7 +173,7 @@ pub fn run(args: &BatchArgs, units: crate::units::UnitSystem) -> anyhow::Result<
             continue;
         }
         written.insert(problem.name.clone(), file.clone());
-        let verdict = match super::create_out_dir(&out).and_then(|()| {
+        let verdict = match super::create_out_dir(&out).and_then(|_out_lock| {
             super::solve::solve_and_report(
                 &problem,
                 file,

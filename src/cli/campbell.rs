@@ -113,7 +113,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
         args.points
     );
     let k = multiple(args, &problem)?;
-    let out = super::study::out_dir(&args.out, &problem, "campbell")?;
+    let (out, _out_lock) = super::study::out_dir(&args.out, &problem, "campbell")?;
     let kind = if args.unreduced {
         ModelKind::Unreduced
     } else {

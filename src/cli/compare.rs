@@ -83,7 +83,7 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
         .iter()
         .map(|p| parse_point(p, problem.model.top.set_point()))
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let out = study::out_dir(&args.run.out, &problem, "compare")?;
+    let (out, _out_lock) = study::out_dir(&args.run.out, &problem, "compare")?;
     let clock = Instant::now();
     let cache = study::open_cache(&out, args.run.resume, args.run.quiet)?;
     let bar = study::progress_bar(

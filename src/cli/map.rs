@@ -51,7 +51,7 @@ pub fn run(args: &MapArgs, units: UnitSystem) -> anyhow::Result<()> {
         Some(g) => parse_grid(g)?,
         None => problem.study.optimizer.grid(),
     };
-    let out = study::out_dir(&args.run.out, &problem, "map")?;
+    let (out, _out_lock) = study::out_dir(&args.run.out, &problem, "map")?;
     let clock = Instant::now();
     let cache = study::open_cache(&out, args.run.resume, args.run.quiet)?;
     let bar = study::progress_bar(

@@ -200,9 +200,47 @@ pub(crate) fn whole_number(s: &str) -> Result<usize, String> {
     })
 }
 
-/// Creates an output directory (`--out`, or the command's default), saying which and why when
-/// it cannot: a file of that name, a file on the way, no permission.
-pub(crate) fn create_out_dir(dir: &std::path::Path) -> anyhow::Result<()> {
+/// The name of the lock file a run holds in its output directory (hidden; left in place, since
+/// deleting a lock file races with the next run that opens it).
+pub(crate) const OUT_LOCK: &str = ".drillopt.lock";
+
+/// An output directory held by this run: an exclusive advisory lock on `<dir>/.drillopt.lock`
+/// (`File::try_lock`), released when dropped, so that two runs never write one folder at once
+/// (a second `simulate` on the same `--out` silently replaced the first's results). On
+/// filesystems without locks the run goes on without one.
+#[must_use = "the output directory is locked only while this is held"]
+#[derive(Debug)]
+pub struct OutDirLock {
+    _file: std::fs::File,
+}
+
+/// Creates an output directory (`--out`, or the command's default) and locks it for this run,
+/// saying which and why when it cannot: a file of that name, a file on the way, no permission,
+/// another drillopt run writing there now.
+pub(crate) fn create_out_dir(dir: &std::path::Path) -> anyhow::Result<OutDirLock> {
+    make_out_dir(dir)?;
+    let path = dir.join(OUT_LOCK);
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(&path)
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "output directory {}: cannot create its lock file {OUT_LOCK} ({e}); --out takes a directory you may write to",
+                dir.display()
+            )
+        })?;
+    match file.try_lock() {
+        Ok(()) | Err(std::fs::TryLockError::Error(_)) => Ok(OutDirLock { _file: file }),
+        Err(std::fs::TryLockError::WouldBlock) => anyhow::bail!(
+            "output directory {} is in use by another drillopt run (it holds {OUT_LOCK}); wait for it to finish or choose another --out",
+            dir.display()
+        ),
+    }
+}
+
+fn make_out_dir(dir: &std::path::Path) -> anyhow::Result<()> {
     if dir.exists() && !dir.is_dir() {
         anyhow::bail!(
             "output directory {}: a file of that name exists; --out takes a directory (created if missing)",
@@ -339,6 +377,20 @@ mod tests {
             text.contains("afile/sub") && text.contains("cannot be created"),
             "{text}"
         );
-        create_out_dir(&dir.path().join("new/deeper")).unwrap();
+        let _held = create_out_dir(&dir.path().join("new/deeper")).unwrap();
+    }
+
+    #[test]
+    fn an_output_directory_is_held_by_one_run_at_a_time() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let held = create_out_dir(&out).unwrap();
+        let text = create_out_dir(&out).unwrap_err().to_string();
+        assert!(
+            text.contains("in use by another drillopt run") && text.contains("--out"),
+            "{text}"
+        );
+        drop(held);
+        let _again = create_out_dir(&out).unwrap();
     }
 }

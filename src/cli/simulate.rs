@@ -238,7 +238,7 @@ fn sample_interval(
 pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let (op, duration) = point_and_duration(&problem, &args.point)?;
-    let out = super::study::out_dir(&args.out, &problem, "simulate")?;
+    let (out, _out_lock) = super::study::out_dir(&args.out, &problem, "simulate")?;
 
     let bar = if args.quiet {
         ProgressBar::hidden()

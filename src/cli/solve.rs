@@ -314,7 +314,7 @@ pub fn run(args: &SolveArgs, units: UnitSystem) -> anyhow::Result<()> {
     }
     study::apply_overrides(&mut problem, &args.problem, &args.run, args.budget)?;
     study::start_threads(args.run.threads)?;
-    let out = study::out_dir(&args.run.out, &problem, "solve")?;
+    let (out, _out_lock) = study::out_dir(&args.run.out, &problem, "solve")?;
     let (outcome, _) = solve_and_report(
         &problem,
         &args.problem,

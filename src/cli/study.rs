@@ -98,13 +98,18 @@ pub fn start_threads(threads: Option<usize>) -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("--threads {n}: {e}"))
 }
 
-/// Where a command writes, created: `--out` or `results/<problem>/<command>/`.
-pub fn out_dir(out: &Option<PathBuf>, problem: &Problem, command: &str) -> anyhow::Result<PathBuf> {
+/// Where a command writes, created and locked for this run (see [`super::OutDirLock`]): `--out`
+/// or `results/<problem>/<command>/`.
+pub fn out_dir(
+    out: &Option<PathBuf>,
+    problem: &Problem,
+    command: &str,
+) -> anyhow::Result<(PathBuf, super::OutDirLock)> {
     let dir = out
         .clone()
         .unwrap_or_else(|| Path::new("results").join(&problem.name).join(command));
-    super::create_out_dir(&dir)?;
-    Ok(dir)
+    let lock = super::create_out_dir(&dir)?;
+    Ok((dir, lock))
 }
 
 /// Open the evaluation cache `<out>/cache.jsonl`: continued with `resume`, else started afresh
