@@ -76,10 +76,9 @@ fn the_extended_basis_is_mass_orthonormal_and_stiffness_diagonal() {
     let p = common::seed();
     let model = ReducedModel::new(&p.model, ELEMENTS, &BasisSpec::DEFAULT).unwrap();
     let phi = &model.phi;
-    let m = nalgebra::DMatrix::from_fn(phi.nrows(), phi.nrows(), |i, j| model.global.mass[(i, j)]);
-    let k = nalgebra::DMatrix::from_fn(phi.nrows(), phi.nrows(), |i, j| {
-        model.global.stiffness[(i, j)]
-    });
+    let global = drillopt::fem::assemble(&p.model, ELEMENTS);
+    let m = nalgebra::DMatrix::from_fn(phi.nrows(), phi.nrows(), |i, j| global.mass[(i, j)]);
+    let k = nalgebra::DMatrix::from_fn(phi.nrows(), phi.nrows(), |i, j| global.stiffness[(i, j)]);
     let (mm, kk) = (phi.transpose() * &m * phi, phi.transpose() * &k * phi);
     let n = model.size();
     let scale = model.omega2.max();

@@ -96,7 +96,7 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
     let points = ev.evaluate(&ops);
     bar.finish_and_clear();
     // Bit-speed histories of the nominal model, for the overlay plot.
-    let runs: Vec<(String, sim::RunOutput)> = ops
+    let runs: Vec<(String, sim::TimeSeries)> = ops
         .iter()
         .map(|op| {
             let (unit, set_point) = units.from_metric(op.kind().unit(), op.shown_set_point());
@@ -104,14 +104,23 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
                 "{:.0} rpm, {set_point:.1} {unit}",
                 crate::units::to_rpm(op.omega),
             );
-            sim::run_problem(
-                &problem,
-                sim::ModelKind::Reduced,
-                *op,
-                problem.simulation.duration,
-                |_| {},
-            )
-            .map(|r| (label, r))
+            // The extremes per plot interval only: memory bounded in the duration.
+            let duration = problem.simulation.duration;
+            sim::ModelKind::Reduced.build(&problem).map(|model| {
+                let kept =
+                    sim::PlotHistory::new(&problem.simulation.probes, duration, report::PLOT_BUCKETS, None);
+                let (kept, _) = sim::run_model_until(
+                    &problem,
+                    &model,
+                    *op,
+                    duration,
+                    kept,
+                    |_| {},
+                    sim::StopFlag::default(),
+                )
+                .split();
+                (label, kept.into_series())
+            })
         })
         .collect::<Result<_, _>>()
         .context("modal analysis")?;

@@ -273,10 +273,15 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     let settling = problem.simulation.settling_for(duration);
     let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling)
         .with_top(problem.model.top);
-    // Every accepted step goes to the metrics; the written history (streamed to disk, and kept
-    // in memory for the plots) is sampled at `interval`.
+    // Every accepted step goes to the metrics; the written history (streamed to disk) is sampled
+    // at `interval`, and the plots keep its extremes per plot interval (bounded memory).
     let probes = &problem.simulation.probes;
-    let kept = sim::TimeSeries::with_probes(probes, interval.rows(duration).unwrap_or(0));
+    let kept = sim::PlotHistory::new(
+        probes,
+        duration,
+        report::PLOT_BUCKETS,
+        interval.rows(duration),
+    );
     let csv = report::CsvStream::create(&out.join("timeseries.csv"), probes)?;
     let sink = (
         metrics::OnlineMetrics::new(config.clone(), duration)?,
@@ -300,7 +305,8 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     super::interrupt::uninstall();
     let interrupted = matches!(output.error, Some(sim::SimulationError::Interrupted { .. }));
     let ((online, sampler), output) = output.split();
-    let (csv, series) = sampler.finish();
+    let (csv, kept) = sampler.finish();
+    let series = kept.into_series();
     bar.set_message("critical speeds");
     // The margin depends on the model and Ω only; a string without a resting state has none. It
     // is taken on the problem's reduced basis even for an unreduced run: a Campbell sweep of every

@@ -22,7 +22,7 @@ mod stress;
 #[cfg(test)]
 mod test_support;
 
-pub use assembly::{GlobalMatrices, assemble, weight_load};
+pub use assembly::{AssembledMesh, GlobalMatrices, assemble, weight_load};
 pub use boundary::BoundaryConditions;
 pub use dof::{DOF_PER_NODE, Dof};
 pub use element::{BeamElement, ELEMENT_DOF, ElementMatrix, ElementVector, Lateral};

@@ -12,7 +12,8 @@
 
 use super::{BasisError, BlockBasis, BlockWork, Family, ModalBasis, Operator, SparseBasis};
 use crate::fem::{
-    BoundaryConditions, Dof, ElementInertia, ElementStrains, GlobalMatrices, StrainEnergy, assemble,
+    AssembledMesh, BoundaryConditions, Dof, ElementInertia, ElementStrains, GlobalMatrices,
+    StrainEnergy, assemble,
 };
 use crate::integrate::SparsityPattern;
 use crate::model::{BasisSpec, Drillstring};
@@ -23,7 +24,8 @@ use nalgebra::{DMatrix, DVector};
 #[derive(Debug, Clone)]
 pub struct ReducedModel {
     pub string: Drillstring,
-    pub global: GlobalMatrices,
+    /// The mesh (the assembled matrices are dropped after the projection).
+    pub global: AssembledMesh,
     pub bc: BoundaryConditions,
     pub basis: ModalBasis,
     /// Φ, 6(N+1) × n.
@@ -94,14 +96,19 @@ impl ReducedModel {
         let families: Vec<_> = basis.modes.iter().map(|m| m.family).collect();
         let omega2 =
             DVector::from_iterator(basis.len(), basis.modes.iter().map(|m| m.omega * m.omega));
-        let pipe_mass = to_na(&global.pipe_mass);
-        let mut damping = phi.transpose() * (&pipe_mass * &phi) * string.damping;
-        if string.stiffness_damping > 0.0 {
-            // β Φᵀ K Φ as a product (not β Λ): the static corrections and resting shapes of the
-            // basis are not eigenvectors of K.
-            let stiffness = to_na(&global.stiffness);
-            damping += phi.transpose() * (&stiffness * &phi) * string.stiffness_damping;
-        }
+        // The dense copies are dropped before the projection makes its own (peak memory).
+        let damping = {
+            let pipe_mass = to_na(&global.pipe_mass);
+            let mut damping = phi.transpose() * (&pipe_mass * &phi) * string.damping;
+            drop(pipe_mass);
+            if string.stiffness_damping > 0.0 {
+                // β Φᵀ K Φ as a product (not β Λ): the static corrections and resting shapes of
+                // the basis are not eigenvectors of K.
+                let stiffness = to_na(&global.stiffness);
+                damping += phi.transpose() * (&stiffness * &phi) * string.stiffness_damping;
+            }
+            damping
+        };
         let damping = Operator::Dense(damping);
         let operators = Operators {
             mass: Operator::Identity,
@@ -165,23 +172,43 @@ impl ReducedModel {
     ) -> Self {
         let elements = global.elements;
         let modes = phi.ncols();
-        let mass = to_na(&global.mass);
-        let pipe_mass = to_na(&global.pipe_mass);
-        let gravity = phi.transpose() * DVector::from_fn(global.dof(), |i, _| global.gravity[i]);
-        let unit = |dof: Dof| {
-            DVector::from_fn(global.dof(), |i, _| {
-                if Dof::of_index(i) == dof { 1.0 } else { 0.0 }
+        let dof = global.dof();
+        let gravity = phi.transpose() * DVector::from_fn(dof, |i, _| global.gravity[i]);
+        // Each dense matrix is dropped as soon as it is used (peak memory on long meshes).
+        let GlobalMatrices {
+            mass: full_mass,
+            pipe_mass: full_pipe_mass,
+            stiffness,
+            layout,
+            ..
+        } = global;
+        drop(stiffness);
+        let unit = |dof_kind: Dof| {
+            DVector::from_fn(dof, |i, _| {
+                if Dof::of_index(i) == dof_kind { 1.0 } else { 0.0 }
             })
         };
         let (eu, et) = (unit(Dof::U), unit(Dof::ThetaX));
-        let c = &pipe_mass * string.damping;
-        let rigid_damping = [phi.transpose() * (&c * &eu), phi.transpose() * (&c * &et)];
-        let rigid_mass = [
-            phi.transpose() * (&mass * &eu),
-            phi.transpose() * (&mass * &et),
-        ];
-        let rigid_self_damping = [eu.dot(&(&c * &eu)), et.dot(&(&c * &et))];
-        let rigid_self_mass = [eu.dot(&(&mass * &eu)), et.dot(&(&mass * &et))];
+        let (rigid_damping, rigid_self_damping) = {
+            let c = to_na(&full_pipe_mass) * string.damping;
+            drop(full_pipe_mass);
+            (
+                [phi.transpose() * (&c * &eu), phi.transpose() * (&c * &et)],
+                [eu.dot(&(&c * &eu)), et.dot(&(&c * &et))],
+            )
+        };
+        let (rigid_mass, rigid_self_mass) = {
+            let mass = to_na(&full_mass);
+            drop(full_mass);
+            (
+                [
+                    phi.transpose() * (&mass * &eu),
+                    phi.transpose() * (&mass * &et),
+                ],
+                [eu.dot(&(&mass * &eu)), et.dot(&(&mass * &et))],
+            )
+        };
+        let global = AssembledMesh { layout, elements };
         let kernels: Vec<ElementKernel> = (global.layout.kinds().iter())
             .map(|kind| ElementKernel {
                 strain_law: kind.strain_law,

@@ -8,6 +8,7 @@ mod dynamics;
 mod envelope;
 mod fatigue;
 mod free_top;
+mod plot_history;
 mod rock_surface;
 mod run;
 mod sampler;
@@ -20,6 +21,7 @@ pub use dynamics::{Dynamics, Effects, Observation};
 pub use envelope::StressEnvelope;
 pub use fatigue::{FATIGUE_FIBRES, SectionFatigue};
 pub use free_top::{FreeTop, START_TOLERANCE, free_top_start};
+pub use plot_history::{PLOTTED, PlotHistory};
 pub use rock_surface::{Cut, NODES_PER_REVOLUTION, RockSurface};
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,

@@ -14,7 +14,7 @@ use crate::report::{
     self, ConstraintLine, EvaluatedPoint, Mark, MarkKind, MetricDisplay, MetricRow, OverlayRun,
     RPM_PER_RAD_S as RPM, Region, SetPointAxis, StarredPoint, fmt_sig, short,
 };
-use crate::sim::RunOutput;
+use crate::sim::TimeSeries;
 use crate::solve::{MapOutcome, SolveOutcome};
 use crate::stats::Statistic;
 use crate::study::{PointEvaluation, SampleOutcome};
@@ -333,7 +333,7 @@ pub fn map_plots(
 /// `runs[k]` was simulated at `ops[k]`.
 pub fn compare_plots(
     out: &Path,
-    runs: &[(String, RunOutput)],
+    runs: &[(String, TimeSeries)],
     ops: &[OperatingPoint],
 ) -> anyhow::Result<()> {
     let overlay: Vec<OverlayRun<'_>> = runs
@@ -341,7 +341,7 @@ pub fn compare_plots(
         .zip(ops)
         .map(|((label, r), op)| OverlayRun {
             label,
-            series: &r.series,
+            series: r,
             omega_rad_s: op.omega,
         })
         .collect();
