@@ -107,8 +107,12 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
             // The extremes per plot interval only: memory bounded in the duration.
             let duration = problem.simulation.duration;
             sim::ModelKind::Reduced.build(&problem).map(|model| {
-                let kept =
-                    sim::PlotHistory::new(&problem.simulation.probes, duration, report::PLOT_BUCKETS, None);
+                let kept = sim::PlotHistory::new(
+                    &problem.simulation.probes,
+                    duration,
+                    report::PLOT_BUCKETS,
+                    None,
+                );
                 let (kept, _) = sim::run_model_until(
                     &problem,
                     &model,

@@ -24,6 +24,9 @@ pub use error::{KeyError, ProblemError};
 use crate::model::{CampbellSettings, Drillstring, Mesh, OperatingPoint, Simulation};
 use std::path::{Path, PathBuf};
 
+/// The largest problem file read, bytes (the shipped ones are 2-12 kB).
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
+
 /// A validated study: the model, its discretisation, the operating point and the simulation window.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Problem {
@@ -46,12 +49,35 @@ pub struct Problem {
 }
 
 impl Problem {
-    /// Read and validate a problem file.
+    /// Read and validate a problem file (at most [`MAX_FILE_BYTES`]: `drillopt modes /dev/zero`
+    /// read 1.2 GB before it failed).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, ProblemError> {
+        use std::io::Read;
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|error| ProblemError::Io {
+        let io = |error| ProblemError::Io {
             file: path.to_path_buf(),
             error,
+        };
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .map_err(io)?
+            .take(MAX_FILE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(io)?;
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            return Err(io(std::io::Error::new(
+                std::io::ErrorKind::FileTooLarge,
+                format!(
+                    "larger than {} MiB: a problem file is a few kB of TOML (is this the right file?)",
+                    MAX_FILE_BYTES >> 20
+                ),
+            )));
+        }
+        let text = String::from_utf8(bytes).map_err(|e| {
+            io(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("not UTF-8 text ({e}); a problem file is TOML"),
+            ))
         })?;
         Self::from_toml(&text, path)
     }

@@ -1021,6 +1021,8 @@ pub(super) fn yield_strength(
 
 /// Upper bound on the element count: far beyond any useful mesh, it keeps dense algebra bounded.
 pub(super) const MAX_ELEMENTS: i64 = 2000;
+/// The most radial probes a run records (`simulation.probes`).
+pub const MAX_PROBES: usize = 32;
 
 fn mesh(c: &Checker, m: &MeshSection) -> Result<Mesh, ProblemError> {
     if !(1..=MAX_ELEMENTS).contains(&m.elements) {
@@ -1222,9 +1224,21 @@ fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulat
         }
         None => 0.0,
     };
+    if s.probes.len() > MAX_PROBES {
+        // Each probe is a column of the time series and a plot of its own: 100 000 probes took
+        // 40 s for 0.01 s of simulated time.
+        c.record(
+            "simulation.probes",
+            format!(
+                "{} positions: at most {MAX_PROBES} radial probes (each is a column of timeseries.csv and a plot); the stress envelope covers every element",
+                s.probes.len()
+            ),
+        );
+    }
     let probes = s
         .probes
         .iter()
+        .take(MAX_PROBES)
         .enumerate()
         .map(|(i, p)| {
             let key = format!("simulation.probes[{i}]");

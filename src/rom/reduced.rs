@@ -185,7 +185,11 @@ impl ReducedModel {
         drop(stiffness);
         let unit = |dof_kind: Dof| {
             DVector::from_fn(dof, |i, _| {
-                if Dof::of_index(i) == dof_kind { 1.0 } else { 0.0 }
+                if Dof::of_index(i) == dof_kind {
+                    1.0
+                } else {
+                    0.0
+                }
             })
         };
         let (eu, et) = (unit(Dof::U), unit(Dof::ThetaX));

@@ -84,7 +84,12 @@ impl PlotHistory {
     /// # Panics
     /// If `duration` is not positive and finite or `buckets` is 0 (a caller's bug: durations are
     /// validated at load).
-    pub fn new(probes: &[f64], duration: f64, buckets: usize, expected_rows: Option<usize>) -> Self {
+    pub fn new(
+        probes: &[f64],
+        duration: f64,
+        buckets: usize,
+        expected_rows: Option<usize>,
+    ) -> Self {
         assert!(duration > 0.0 && duration.is_finite() && buckets > 0);
         let curves = PLOTTED.len() + probes.len();
         let bound = buckets * (2 * curves + 1);
@@ -175,7 +180,12 @@ mod tests {
         let mut values = [0.0; CHANNELS.len()];
         values[at::T] = t;
         values[at::BIT_DISPLACEMENT] = t * 0.01 + (37.0 * t).sin() * 1e-4;
-        values[at::BIT_VELOCITY] = (5.0 * t).sin() + if (t * 1e3).round() as u64 % 997 == 0 { 3.0 } else { 0.0 };
+        values[at::BIT_VELOCITY] = (5.0 * t).sin()
+            + if (t * 1e3).round() as u64 % 997 == 0 {
+                3.0
+            } else {
+                0.0
+            };
         values[at::BIT_ROTATION] = 6.0 * t;
         values[at::BIT_ANGULAR_VELOCITY] = 6.0 + (11.0 * t).cos() * (t * 0.3).sin();
         (values, [1e-3 * (23.0 * t).sin().abs()])
