@@ -438,3 +438,41 @@ fn a_file_larger_than_a_mebibyte_is_refused_without_reading_it_all() {
     // The shipped size is far below it.
     assert!(TINY.len() < 64 * 1024);
 }
+
+/// Unbounded work: `map --grid 200x200` with 10 000 samples grew 0.5 GB/s to out-of-memory. The
+/// cost model refuses it before any work (nothing written), with its estimate, what drives it
+/// and the flags that change it; a study that fits goes on.
+#[test]
+fn a_study_beyond_the_machines_memory_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/bench/tiny_multi_fidelity.toml"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .args([
+            "map",
+            file,
+            "--grid",
+            "200x200",
+            "--samples",
+            "10000",
+            "--quiet",
+            "--out",
+        ])
+        .arg(dir.path().join("map"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    for w in [
+        "tiny_multi_fidelity.toml",
+        "map would need about 1.6 TB of memory",
+        "the results of 400000000 simulations",
+        "--samples",
+        "--grid",
+    ] {
+        assert!(stderr.contains(w), "{w:?} missing: {stderr}");
+    }
+    assert!(!dir.path().join("map").exists(), "refused before any work");
+}

@@ -83,6 +83,10 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
         .iter()
         .map(|p| parse_point(p, problem.model.top.set_point()))
         .collect::<anyhow::Result<Vec<_>>>()?;
+    // The study, and one more run per point for the overlay plot.
+    let mut work = study::study_work(&problem, ops.len());
+    work.simulations += ops.len() as u64;
+    study::check_cost(&work, &args.problem, &problem, "compare", args.run.quiet)?;
     let (out, _out_lock) = study::out_dir(&args.run.out, &problem, "compare")?;
     let clock = Instant::now();
     let cache = study::open_cache(&out, args.run.resume, args.run.quiet)?;

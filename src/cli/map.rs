@@ -51,6 +51,13 @@ pub fn run(args: &MapArgs, units: UnitSystem) -> anyhow::Result<()> {
         Some(g) => parse_grid(g)?,
         None => problem.study.optimizer.grid(),
     };
+    study::check_cost(
+        &study::study_work(&problem, grid[0] * grid[1]),
+        &args.problem,
+        &problem,
+        "map",
+        args.run.quiet,
+    )?;
     let (out, _out_lock) = study::out_dir(&args.run.out, &problem, "map")?;
     let clock = Instant::now();
     let cache = study::open_cache(&out, args.run.resume, args.run.quiet)?;

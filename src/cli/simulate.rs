@@ -238,6 +238,17 @@ fn sample_interval(
 pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     let problem = Problem::load(&args.problem)?;
     let (op, duration) = point_and_duration(&problem, &args.point)?;
+    let work = crate::study::cost::Work {
+        elements: problem.mesh.elements,
+        modes: crate::study::cost::basis_size(&problem.mesh.basis),
+        simulations: 1,
+        seconds_each: duration,
+        models_held: 1,
+        concurrent: 1,
+        holds_results: false,
+        unreduced: args.unreduced,
+    };
+    super::study::check_cost(&work, &args.problem, &problem, "simulate", args.quiet)?;
     let (out, _out_lock) = super::study::out_dir(&args.out, &problem, "simulate")?;
 
     let bar = if args.quiet {

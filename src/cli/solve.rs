@@ -46,6 +46,10 @@ pub fn solve_and_report(
         }
         _ => settings.budget() as u64 * per_point,
     };
+    // Before any work: the points' samples, and the numerical check's runs at the optimum.
+    let mut work = study::study_work(problem, 0);
+    work.simulations = simulations + 8;
+    study::check_cost(&work, problem_file, problem, "solve", quiet)?;
     let bar = study::progress_bar(
         quiet,
         simulations,

@@ -112,6 +112,103 @@ pub fn out_dir(
     Ok((dir, lock))
 }
 
+/// The work of a study of `points` operating points on `problem` (its samples, mesh, basis and
+/// window; the threads of the pool).
+pub fn study_work(problem: &Problem, points: usize) -> crate::study::cost::Work {
+    let samples = problem.study.samples.max(1);
+    // Samples that change the linear operators are built each, in parallel; else the nominal
+    // model is built once and copied.
+    let rebuild = problem
+        .study
+        .uncertain
+        .iter()
+        .any(|u| u.key.enters(&problem.model) == crate::model::Enters::LinearOperators);
+    crate::study::cost::Work {
+        elements: problem.mesh.elements,
+        modes: crate::study::cost::basis_size(&problem.mesh.basis),
+        simulations: (points as u64).saturating_mul(samples as u64),
+        seconds_each: problem.simulation.duration,
+        // One model per sample (built, or the nominal one copied).
+        models_held: samples,
+        concurrent: if rebuild {
+            rayon::current_num_threads()
+        } else {
+            1
+        },
+        holds_results: true,
+        unreduced: false,
+    }
+}
+
+/// Refuses `work` when its estimated peak memory exceeds what the machine has available,
+/// naming the input that drives it and its value; warns (unless `quiet`) when its CPU time may
+/// pass [`crate::study::cost::WARN_CPU_HOURS`]. `file` and `command` name the run.
+pub fn check_cost(
+    work: &crate::study::cost::Work,
+    file: &Path,
+    problem: &Problem,
+    command: &str,
+    quiet: bool,
+) -> anyhow::Result<()> {
+    use crate::study::cost::{self, Driver};
+    let e = work.estimate();
+    let elements = work.elements;
+    if let Some(available) = cost::available_memory()
+        && e.peak_bytes > available
+    {
+        let (driver, bytes) = e.largest;
+        let what = match driver {
+            Driver::Mesh => format!(
+                "{} to assemble and project the {elements}-element mesh ({} DOFs, dense){}; lower mesh.elements",
+                cost::bytes_text(bytes),
+                work.dofs(),
+                if work.concurrent > 1 {
+                    format!(
+                        ", {} models at once on {} threads (--threads)",
+                        work.concurrent, work.concurrent
+                    )
+                } else {
+                    String::new()
+                },
+            ),
+            Driver::Models => format!(
+                "{} for {} models of {} basis vectors on {elements} elements; fewer uncertain.samples (--samples) or a smaller mesh.basis",
+                cost::bytes_text(bytes),
+                work.models_held,
+                work.modes,
+            ),
+            Driver::Results => format!(
+                "{} for the results of {} simulations; fewer uncertain.samples (--samples) or fewer points (--grid, --budget, optimizer.max_evaluations)",
+                cost::bytes_text(bytes),
+                work.simulations,
+            ),
+        };
+        anyhow::bail!(
+            "{}: {command} would need about {} of memory, more than the {} this machine has available: {what}",
+            file.display(),
+            cost::bytes_text(e.peak_bytes),
+            cost::bytes_text(available),
+        );
+    }
+    if !quiet && e.cpu_seconds > cost::WARN_CPU_HOURS * 3600.0 {
+        let threads = work.concurrent.max(1) as f64;
+        eprintln!(
+            "note: {command} of {} may take up to about {} of CPU time ({} simulation{} of {} s on {elements} elements and {} basis vectors{}; an upper estimate from the seed string's stick-slipping cost, a steady string costs far less), about {} on {} thread{}",
+            problem.name,
+            cost::seconds_text(e.cpu_seconds),
+            work.simulations,
+            if work.simulations == 1 { "" } else { "s" },
+            crate::units::short(work.seconds_each),
+            work.modes,
+            if work.unreduced { ", unreduced" } else { "" },
+            cost::seconds_text(e.cpu_seconds / threads),
+            threads,
+            if threads == 1.0 { "" } else { "s" },
+        );
+    }
+    Ok(())
+}
+
 /// Open the evaluation cache `<out>/cache.jsonl`: continued with `resume`, else started afresh
 /// (an old cache is kept beside as `cache.jsonl.old`).
 /// Without `resume`, an earlier run's cache in `out` is moved aside to `cache.jsonl.old` (said on

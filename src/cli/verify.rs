@@ -64,6 +64,18 @@ pub fn run(args: &VerifyArgs, units: UnitSystem) -> anyhow::Result<super::Outcom
         refinements.push(Refinement::Unreduced);
     }
     refinements.push(Refinement::Perturbed);
+    // The finest model is the mesh refinement's, twice the elements.
+    let work = crate::study::cost::Work {
+        elements: 2 * problem.mesh.elements,
+        modes: crate::study::cost::basis_size(&problem.mesh.basis),
+        simulations: refinements.len() as u64 + 1,
+        seconds_each: duration,
+        models_held: 1,
+        concurrent: 1,
+        holds_results: false,
+        unreduced: false,
+    };
+    super::study::check_cost(&work, &args.problem, &problem, "verify", args.quiet)?;
     if !args.quiet {
         eprintln!(
             "verify {}: base run, {} refinements ({}) and the base at Ω·(1 + {:e}) at {:.1} rpm, {:.2} {}, {duration} s …",

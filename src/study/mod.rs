@@ -11,6 +11,7 @@
 //!
 //! The statistics themselves live in [`crate::stats`], shared with the problem layer.
 
+pub mod cost;
 pub mod evaluator;
 pub mod executor;
 pub mod fidelity;
