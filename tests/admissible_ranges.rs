@@ -476,3 +476,101 @@ fn a_study_beyond_the_machines_memory_is_refused_before_any_work() {
     }
     assert!(!dir.path().join("map").exists(), "refused before any work");
 }
+
+/// Second campaign's findings (14 000 mutated files): a linear weight so small that the wall
+/// vanishes was refused under the outer size; it is refused under its own key.
+#[test]
+fn a_vanishing_linear_weight_is_refused_under_its_own_key() {
+    let bha = include_str!("../problems/bha_example.toml");
+    let text = bha.replacen(
+        "linear_weight = \"19.81 lb/ft\"",
+        "linear_weight = \"5e-324 lb/ft\"",
+        1,
+    );
+    assert_ne!(text, bha);
+    let err = Problem::from_toml(&text, Path::new("bha.toml")).unwrap_err();
+    let e = err
+        .key_errors()
+        .iter()
+        .find(|e| e.key.ends_with("linear_weight"))
+        .unwrap_or_else(|| panic!("not refused under linear_weight: {err}"))
+        .clone();
+    assert!(e.message.contains("implies a wall of"), "{}", e.message);
+    assert!(
+        !err.key_errors()
+            .iter()
+            .any(|e| e.key.ends_with("outer_diameter")),
+        "{err}"
+    );
+}
+
+/// The command line: a subnormal V0 underflowed to off-bottom 0 and ran; `-0` printed
+/// `V0 = -0.000 m/h` and the off-bottom ROP `-0.000`; a negative value was read as an option.
+#[test]
+fn command_line_values_that_underflow_are_refused_and_no_negative_zero_is_printed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = drillopt(
+        &["simulate", "--v0", "5e-324m/h", "--duration", "0.01"],
+        dir.path(),
+        TINY,
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("--v0") && stderr.contains("underflows to 0"),
+        "{stderr}"
+    );
+    let out = drillopt(
+        &["simulate", "--v0", "-0", "--duration", "0.02"],
+        dir.path(),
+        TINY,
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("V0 = 0.000 m/h"), "{stdout}");
+    assert!(!stdout.contains("-0.0"), "{stdout}");
+    let out = drillopt(&["compare", "--point", "-60rpm,10m/h"], dir.path(), TINY);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--point -60rpm,10m/h") && stderr.contains("[1, 1000] rpm"),
+        "{stderr}"
+    );
+}
+
+/// A weightless string (gravity 0, admissible) printed "compression inf % of sinusoidal
+/// buckling"; it says there is no such figure.
+#[test]
+fn a_weightless_string_prints_no_infinite_buckling_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = edit("gravity = \"9.81 m/s^2\"", "gravity = 0");
+    let out = drillopt(&["simulate", "--duration", "0.02"], dir.path(), &text);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!stdout.contains("inf"), "{stdout}");
+    assert!(stdout.contains("buckling: no figure"), "{stdout}");
+}
+
+/// `compare` with a point that has no score (off-bottom V0 = 0: the score is not finite)
+/// exited 0; a missing result is not a success.
+#[test]
+fn compare_with_a_point_without_score_exits_non_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = drillopt(
+        &["compare", "--point", "60rpm,0m/h", "--point", "60rpm,5m/h"],
+        dir.path(),
+        TINY,
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(!out.status.success(), "{stdout}");
+    assert!(stderr.contains("1 of 2 points have no score"), "{stderr}");
+    assert!(dir.path().join("out/compare.json").exists());
+}

@@ -30,7 +30,7 @@ pub struct CampbellArgs {
     #[arg(long, default_value = "20rpm..200rpm", allow_hyphen_values = true)]
     pub omega_range: String,
     /// Number of evenly spaced rotation speeds, in [2, 2000].
-    #[arg(long, default_value_t = 91, value_parser = super::whole_number)]
+    #[arg(long, default_value_t = 91, value_parser = super::whole_number, allow_hyphen_values = true)]
     pub points: usize,
     /// The bit's excitation multiple K: critical speeds are sought on 1× and K× the rotation
     /// frequency, K in [1, 50] [default: campbell.excitation_multiple of the problem, else 3, a

@@ -21,7 +21,7 @@ pub struct CompareArgs {
     /// An operating point "OMEGA,V0", each with its unit, e.g. 60rpm,5m/h, or "OMEGA,WOB" under
     /// top = "hook_load", e.g. 60rpm,50kN (repeat the flag); points outside the problem's
     /// constraints are evaluated and reported infeasible.
-    #[arg(long = "point", required = true)]
+    #[arg(long = "point", required = true, allow_hyphen_values = true)]
     pub points: Vec<String>,
     #[command(flatten)]
     pub run: super::study::RunArgs,
@@ -146,6 +146,13 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
         &study::TableUnits::new(units, problem.study.quantity),
     );
     println!("  results in {}", out.display());
+    // A point without a score is a missing result: not a success (the table says why).
+    let missing = points.iter().filter(|p| p.objective.is_none()).count();
+    anyhow::ensure!(
+        missing == 0,
+        "{missing} of {} points have no score (a simulation failed, or the score is not finite: the table's last column says why; compare.json has each sample)",
+        points.len()
+    );
     Ok(())
 }
 

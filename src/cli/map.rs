@@ -17,7 +17,7 @@ pub struct MapArgs {
     /// Problem file (TOML) with a [constraints] section (the box that is mapped).
     pub problem: PathBuf,
     /// Grid size n_Ω x n_V0, e.g. 15x15 (default: the problem's optimizer.grid).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub grid: Option<String>,
     #[command(flatten)]
     pub run: super::study::RunArgs,

@@ -13,7 +13,7 @@ pub struct ModesArgs {
     /// Problem file (TOML).
     pub problem: PathBuf,
     /// List this many lowest modes instead of the problem's basis.
-    #[arg(long, value_parser = super::whole_number)]
+    #[arg(long, value_parser = super::whole_number, allow_hyphen_values = true)]
     pub count: Option<usize>,
     /// Print JSON {"problem", "dof", "free_dof", "basis": {"bending", "torsional", "axial",
     /// "static_corrections", "resting_shapes"}, "modes": [{"index", "freq_hz", "family", "kind"}]}

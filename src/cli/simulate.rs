@@ -120,7 +120,8 @@ pub(super) fn parse_override(
                 .parse(t)
                 .with_context(|| format!("{flag} (key `{key}`)"))?;
             in_range(flag, key, t, v)?;
-            Ok(v)
+            // -0 is 0 (it printed as "V0 = -0.000 m/h").
+            Ok(v + 0.0)
         }
     }
 }
@@ -140,6 +141,20 @@ pub(super) fn in_range(what: &str, key: &str, text: &str, v: f64) -> anyhow::Res
     anyhow::ensure!(
         r.contains(v),
         "{what} (key `{key}`) must be {}, got {}",
+        r.describe_in(unit, factor),
+        text.trim()
+    );
+    // A nonzero number that underflows to 0 in SI (5e-324 m/h) is not the 0 it became.
+    let typed: f64 = text
+        .trim()
+        .trim_start_matches(['+', '-'])
+        .split(|ch: char| !(ch.is_ascii_digit() || ".eE+-".contains(ch)))
+        .next()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0.0);
+    anyhow::ensure!(
+        v != 0.0 || typed == 0.0,
+        "{what} (key `{key}`) must be {}, got {}: so small a value underflows to 0",
         r.describe_in(unit, factor),
         text.trim()
     );
@@ -548,12 +563,17 @@ fn print_summary(
 ) {
     let st = s.solver;
     // A value in SI shown with its unit: "12.345 ft/h".
-    let show =
-        |q: Shown, si: f64, decimals: usize| format!("{:.decimals$} {}", u.of(q, si), u.unit(q));
+    let show = |q: Shown, si: f64, decimals: usize| {
+        format!(
+            "{} {}",
+            crate::units::fixed(u.of(q, si), decimals),
+            u.unit(q)
+        )
+    };
     // A value given in the metric unit `unit` (the keys in m/h or kN), shown so.
     let show_metric = |unit: &'static str, v: f64, decimals: usize| {
         let (unit, v) = u.from_metric(unit, v);
-        format!("{v:.decimals$} {unit}")
+        format!("{} {unit}", crate::units::fixed(v, decimals))
     };
     // A run that stopped early did not simulate its duration: say so (the error follows).
     let done = match s.status {
@@ -727,13 +747,22 @@ fn integrity_line(m: &crate::metrics::Metrics, u: UnitSystem) -> String {
     } else {
         String::new()
     };
+    // Weightless (gravity = 0), a string has no buckling load to compare with.
+    let buckling = if m.buckling_utilization.is_finite() {
+        format!(
+            "compression {:.1} % of sinusoidal buckling at {}",
+            100.0 * m.buckling_utilization,
+            at(m.buckling_at_m)
+        )
+    } else {
+        "buckling: no figure (a weightless string, gravity = 0, has no sinusoidal buckling load)"
+            .to_string()
+    };
     format!(
-        "von Mises {:.1} {} at {}{safety} | {fatigue} | compression {:.1} % of sinusoidal buckling at {}",
+        "von Mises {:.1} {} at {}{safety} | {fatigue} | {buckling}",
         u.of(Stress, m.max_von_mises_pa),
         u.unit(Stress),
         at(m.max_von_mises_at_m),
-        100.0 * m.buckling_utilization,
-        at(m.buckling_at_m)
     )
 }
 

@@ -16,7 +16,7 @@ pub struct SolveArgs {
     /// Most design points the optimizer evaluates [default: optimizer.max_evaluations]; an
     /// integer in [3, 100000] (EGO: above optimizer.initial_design; not for method = "grid").
     /// Recorded in solution.json (`overrides`).
-    #[arg(long, value_name = "N", value_parser = super::whole_number)]
+    #[arg(long, value_name = "N", value_parser = super::whole_number, allow_hyphen_values = true)]
     pub budget: Option<usize>,
     #[command(flatten)]
     pub run: super::study::RunArgs,

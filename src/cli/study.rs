@@ -31,12 +31,12 @@ pub struct RunArgs {
     /// Monte Carlo samples per point [default: the problem's uncertain.samples]; an integer in
     /// [1, 10000], more than 1 only with [[uncertain.parameter]]. Recorded in the report's
     /// header (`samples`, `overrides`).
-    #[arg(long, value_name = "N", value_parser = super::whole_number)]
+    #[arg(long, value_name = "N", value_parser = super::whole_number, allow_hyphen_values = true)]
     pub samples: Option<usize>,
     /// Threads that run the simulations [default: every core, or RAYON_NUM_THREADS]; an integer
     /// in [1, 1024]. Results do not depend on it; recorded in the report (`overrides`,
     /// `work.executor`).
-    #[arg(long, value_name = "N", value_parser = super::whole_number)]
+    #[arg(long, value_name = "N", value_parser = super::whole_number, allow_hyphen_values = true)]
     pub threads: Option<usize>,
 }
 

@@ -44,7 +44,7 @@ pub struct VerifyArgs {
     pub unreduced: bool,
     /// Threads that run the six or seven runs (one more with --unreduced) [default: every core, or
     /// RAYON_NUM_THREADS]; an integer in [1, 1024]. The results do not depend on it.
-    #[arg(long, value_name = "N", value_parser = super::whole_number)]
+    #[arg(long, value_name = "N", value_parser = super::whole_number, allow_hyphen_values = true)]
     pub threads: Option<usize>,
 }
 
@@ -297,7 +297,11 @@ fn print_table(
     for run in &r.runs {
         println!(
             "  {:<10} {} elements, {} s, {} steps, {:.1} s wall",
-            run.name, run.elements, run.duration_s, run.steps, run.wall_time_s
+            run.name,
+            run.elements,
+            crate::units::short(run.duration_s),
+            run.steps,
+            run.wall_time_s
         );
     }
 }

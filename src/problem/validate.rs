@@ -797,7 +797,10 @@ fn wall_stiffness_per(c: &Checker, raw: Option<RawQuantity>) -> WallStiffnessPer
         Some(RawQuantity::Number(x)) => {
             c.record(
                 key,
-                format!("must be a string, {allowed}, got the number {x}"),
+                format!(
+                    "must be a string, {allowed}, got the number {}",
+                    crate::units::show(*x)
+                ),
             );
             WallStiffnessPer::default()
         }
@@ -818,7 +821,10 @@ fn wall_friction(
         Some(RawQuantity::Number(x)) => {
             c.record(
                 key,
-                format!("must be a string, \"coulomb\" or \"paper\", got the number {x}"),
+                format!(
+                    "must be a string, \"coulomb\" or \"paper\", got the number {}",
+                    crate::units::show(*x)
+                ),
             );
             return Ok(WallFriction::COULOMB);
         }

@@ -8,6 +8,9 @@
 //! section's key (`model.section[2].outer_diameter`) and the section by name, and all of them are
 //! reported in one pass.
 
+/// The thinnest pipe wall a section's linear weight may imply, m.
+const MIN_WALL_M: f64 = 1e-4;
+
 use super::Dimension;
 use super::schema::{RawQuantity, SectionTable};
 use super::validate::{Checker, yield_strength};
@@ -195,7 +198,23 @@ fn section(
                     ),
                 )
             } else {
-                (outer_radius * outer_radius - w / (std::f64::consts::PI * density)).sqrt()
+                let inner =
+                    (outer_radius * outer_radius - w / (std::f64::consts::PI * density)).sqrt();
+                // A weight so small that the wall vanishes (5e-324 lb/ft) is the weight's
+                // fault, not the outer size's.
+                if outer_radius - inner < MIN_WALL_M {
+                    c.record(
+                        &key("linear_weight"),
+                        format!(
+                            "implies a wall of {} mm {of}, got {} kg/m: no pipe's wall is thinner than {} mm",
+                            crate::units::show(1e3 * (outer_radius - inner)),
+                            crate::units::show(w),
+                            1e3 * MIN_WALL_M
+                        ),
+                    )
+                } else {
+                    inner
+                }
             }
         }
         (Some(_), ..) => c.record(

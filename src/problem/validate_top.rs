@@ -35,8 +35,9 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
             c.record(
                 key,
                 format!(
-                    "must be a string, one of {}, got the number {x}",
-                    quoted(&FILE_TOPS)
+                    "must be a string, one of {}, got the number {}",
+                    quoted(&FILE_TOPS),
+                    crate::units::show(*x)
                 ),
             );
             return Ok(TopDrive::Feed);

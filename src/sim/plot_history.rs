@@ -181,7 +181,7 @@ mod tests {
         values[at::T] = t;
         values[at::BIT_DISPLACEMENT] = t * 0.01 + (37.0 * t).sin() * 1e-4;
         values[at::BIT_VELOCITY] = (5.0 * t).sin()
-            + if (t * 1e3).round() as u64 % 997 == 0 {
+            + if ((t * 1e3).round() as u64).is_multiple_of(997) {
                 3.0
             } else {
                 0.0

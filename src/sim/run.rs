@@ -135,7 +135,7 @@ pub struct SolverStats {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimulationError {
     #[error(
-        "the starting equilibrium (static under gravity, or the pre-loaded drilling state) did not converge in {iterations} Newton iterations (last update {update:e} m)"
+        "the starting equilibrium (static under gravity, or the pre-loaded drilling state) did not converge in {iterations} Newton iterations (last update {update:.2e} m)"
     )]
     StaticEquilibrium { iterations: usize, update: f64 },
     #[error(

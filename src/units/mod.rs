@@ -97,6 +97,16 @@ pub fn short(x: f64) -> String {
     }
 }
 
+/// `x` with `decimals` decimals, never a negative zero (`-0.0001` to 3 decimals is `0.000`, not
+/// `-0.000`), for figures on the terminal.
+pub fn fixed(x: f64, decimals: usize) -> String {
+    let s = format!("{x:.decimals$}");
+    match s.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+        _ => s,
+    }
+}
+
 /// `x` as Rust prints it when that is short (`0.005`, `250000`), in exponent form when it is
 /// not (`1e308`, `1e-300`), for echoing a value in a message.
 pub fn show(x: f64) -> String {
@@ -120,6 +130,11 @@ mod tests {
         assert_eq!(super::show(-2.5e-300), "-2.5e-300");
         assert_eq!(super::show(0.005), "0.005");
         assert_eq!(super::show(f64::NAN), "NaN");
+        assert_eq!(super::fixed(-0.0001, 3), "0.000");
+        assert_eq!(super::fixed(-0.0, 1), "0.0");
+        assert_eq!(super::fixed(-0.02, 1), "0.0");
+        assert_eq!(super::fixed(-0.06, 1), "-0.1");
+        assert_eq!(super::fixed(4.9454, 3), "4.945");
     }
 }
 

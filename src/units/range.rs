@@ -70,7 +70,12 @@ impl Range {
     /// in the unit a user typed.
     pub fn describe_in(&self, unit: &str, factor: f64) -> String {
         let show = |x: f64| {
-            let t = format!("{:.9}", x / factor);
+            let v = x / factor;
+            // 1e22 was written with 23 digits: large and tiny ends in exponent form.
+            if v != 0.0 && !(1e-9..1e15).contains(&v.abs()) {
+                return format!("{v:e}");
+            }
+            let t = format!("{v:.9}");
             t.trim_end_matches('0').trim_end_matches('.').to_string()
         };
         // No unit (a bare factor): no space before the reason.
@@ -101,11 +106,21 @@ impl Range {
         format!(
             "{}in [{}, {}] {} ({})",
             self.prefix(),
-            self.lo,
-            self.hi,
+            wide(self.lo),
+            wide(self.hi),
             dim.si_unit(),
             self.why
         )
+    }
+}
+
+/// An end of a range as Rust prints it, in exponent form beyond 1e15 or below 1e-9 (1e22 was
+/// written with 23 digits).
+fn wide(x: f64) -> String {
+    if x != 0.0 && !(1e-9..1e15).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
     }
 }
 
