@@ -345,3 +345,70 @@ fn issue_34_seeds_never_panic_and_are_refused_naming_file_and_key() {
         }
     }
 }
+
+/// The command line's quantities, fuzzed as the files are: any `--point` text (numbers huge,
+/// tiny, negative, subnormal, non-finite, with right, wrong or no units, and the campaigns'
+/// seeds) never panics; a point that is accepted lies in the operating point's ranges, and a
+/// refusal names the flag and the key.
+#[test]
+fn command_line_points_never_panic_and_accepted_ones_are_admissible() {
+    use drillopt::model::SetPoint;
+    use drillopt::problem::limits::range_of;
+    let config = Config {
+        cases: 8 * cases(),
+        failure_persistence: None,
+        ..Config::default()
+    };
+    let seeds = prop::sample::select(vec![
+        "5e-324m/h",
+        "-0",
+        "1e-300rpm",
+        "1e308rpm",
+        "-60rpm",
+        "60rpm",
+        "10m/h",
+        "0m/h",
+        "nan",
+        "inf m/h",
+        "2e8 m/h",
+        "30 ft/h",
+        "60 RPM",
+        "",
+    ]);
+    let part = prop_oneof![
+        value().prop_map(|v| v.trim_matches('"').to_string()),
+        seeds.prop_map(str::to_string),
+    ];
+    let mut runner = TestRunner::new(config);
+    runner
+        .run(&(part.clone(), part), |(a, b)| {
+            let text = format!("{a},{b}");
+            for kind in [SetPoint::Feed, SetPoint::Wob] {
+                match drillopt::cli::parse_point(&text, kind) {
+                    Ok(op) => {
+                        prop_assert!(
+                            range_of("operating_point.omega")
+                                .unwrap()
+                                .contains(op.omega)
+                        );
+                        let key = match kind {
+                            SetPoint::Feed => "operating_point.v0",
+                            SetPoint::Wob => "operating_point.wob",
+                        };
+                        let set_point = op.set_point(kind);
+                        prop_assert!(
+                            range_of(key).unwrap().contains(set_point),
+                            "{text}: {set_point} outside {key}"
+                        );
+                        prop_assert!(set_point.is_sign_positive(), "{text}: a negative zero");
+                    }
+                    Err(e) => {
+                        let msg = format!("{e:#}");
+                        prop_assert!(msg.contains("--point"), "{text}: {msg}");
+                    }
+                }
+            }
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+}

@@ -135,7 +135,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
     let model = kind
         .build(&problem)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
-    super::check_basis(&args.problem, &model.basis.modes)?;
+    super::check_basis(&args.problem, &problem, &model.basis.modes)?;
     let options = Linearisation {
         contact: !args.no_contact,
         damping: args.damping,

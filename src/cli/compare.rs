@@ -68,7 +68,8 @@ pub fn parse_point(text: &str, kind: SetPoint) -> anyhow::Result<OperatingPoint>
         v,
         s,
     )?;
-    Ok(OperatingPoint::of(kind, omega, s))
+    // -0 is 0.
+    Ok(OperatingPoint::of(kind, omega, s + 0.0))
 }
 
 pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {

@@ -4,6 +4,7 @@
 mod batch;
 mod campbell;
 mod compare;
+pub use compare::parse_point;
 mod interrupt;
 mod map;
 mod modes;
@@ -83,9 +84,10 @@ pub(crate) fn basis_error(
         crate::model::BasisSpec::Lowest(_) => "mesh.reduced_modes",
         crate::model::BasisSpec::PerFamily { .. } => "mesh.basis",
     };
-    let keys = match &e {
-        BasisError::Eigen(EigenError::MassNotPositiveDefinite { .. }) => MASS_KEYS,
-        BasisError::Eigen(EigenError::StiffnessNotPositive { .. }) => STIFFNESS_AND_MASS_KEYS,
+    use crate::problem::keys::Stage;
+    let stage = match &e {
+        BasisError::Eigen(EigenError::MassNotPositiveDefinite { .. }) => Stage::MassMatrix,
+        BasisError::Eigen(EigenError::StiffnessNotPositive { .. }) => Stage::StiffnessMatrix,
         // The eigen-solve itself (Lanczos, then the dense solver up to 4000 DOFs per family)
         // did not reach the count: the count or the mesh, not the physical inputs.
         BasisError::Eigen(EigenError::NoConvergence { converged, asked }) => {
@@ -97,63 +99,42 @@ pub(crate) fn basis_error(
         BasisError::Eigen(EigenError::TooMany { .. }) | BasisError::EmptyFamily { .. } => {
             return anyhow::anyhow!("{}: key `{basis_key}`: {e}", path.display());
         }
-        BasisError::RestingShape { .. } => RESTING_KEYS,
+        BasisError::RestingShape { .. } => Stage::RestingShape,
     };
     anyhow::anyhow!(
-        "{}: {e}; it comes from the keys {} (and {basis_key}): check their values and units",
+        "{}: {e}; {} depends on {} (and `{basis_key}`): check their values and units",
         path.display(),
-        quoted(keys)
+        stage.describe(),
+        crate::problem::keys::describe_entering(problem, stage)
     )
 }
 
-/// The keys that set the resting shape: the string's weight and bending stiffness, the wall and
-/// the gap.
-const RESTING_KEYS: &[&str] = &[
-    "model.length",
-    "mesh.elements",
-    "model.gravity",
-    "model.pipe.density",
-    "model.pipe.youngs_modulus",
-    "model.pipe.outer_radius",
-    "model.pipe.inner_radius",
-    "model.borehole.radius",
-    "model.wall.stiffness",
-    "model.wall.stiffness_per",
-];
-
-/// The keys that set the mass matrix.
-const MASS_KEYS: &[&str] = &[
-    "model.length",
-    "mesh.elements",
-    "model.pipe.density",
-    "model.pipe.outer_radius",
-    "model.pipe.inner_radius",
-    "model.fluid.density",
-];
-
-/// The keys that set the stiffness and mass matrices.
-const STIFFNESS_AND_MASS_KEYS: &[&str] = &[
-    "model.length",
-    "mesh.elements",
-    "model.pipe.density",
-    "model.pipe.youngs_modulus",
-    "model.pipe.poisson_ratio",
-    "model.pipe.outer_radius",
-    "model.pipe.inner_radius",
-    "model.fluid.density",
-];
-
-fn quoted(keys: &[&str]) -> String {
-    keys.iter()
-        .map(|k| format!("`{k}`"))
-        .collect::<Vec<_>>()
-        .join(", ")
+/// The stage a run's failure comes from, and so the keys that can cause it
+/// ([`crate::problem::keys`]); none for a failure that is not numerical (an interrupted run, a
+/// failed output).
+pub(crate) fn failed_stage(e: &crate::sim::SimulationError) -> Option<crate::problem::keys::Stage> {
+    use crate::problem::keys::Stage;
+    use crate::sim::SimulationError as E;
+    match e {
+        E::StaticEquilibrium { .. }
+        | E::FrictionContinuation { .. }
+        | E::NonPhysicalStart { .. }
+        | E::NoSteadyDrilling { .. }
+        | E::NoHookLoad { .. } => Some(Stage::Start),
+        E::StepTooSmall { .. }
+        | E::TooManySteps { .. }
+        | E::NonFinite { .. }
+        | E::Diverged { .. }
+        | E::NonPhysicalStress { .. } => Some(Stage::Step),
+        E::RecordingStopped { .. } | E::Interrupted { .. } => None,
+    }
 }
 
 /// Refuses a basis with a frequency that is not positive and finite: a 0 Hz (or NaN) mode means
 /// the eigen-solve did not resolve the inputs, and a run or a table on it would be meaningless.
 pub(crate) fn check_basis(
     path: &std::path::Path,
+    problem: &crate::problem::Problem,
     modes: &[crate::rom::Mode],
 ) -> anyhow::Result<()> {
     match modes
@@ -163,12 +144,16 @@ pub(crate) fn check_basis(
         None => Ok(()),
         Some(m) => Err(anyhow::anyhow!(
             "{}: the eigen-solve gave basis vector {} ({}) a frequency of {} Hz, which is not \
-             positive and finite; it comes from the keys {}: check their values and units",
+             positive and finite; {} depends on {}: check their values and units",
             path.display(),
             m.index,
             m.family.name(),
-            m.freq_hz,
-            quoted(STIFFNESS_AND_MASS_KEYS)
+            crate::units::show(m.freq_hz),
+            crate::problem::keys::Stage::StiffnessMatrix.describe(),
+            crate::problem::keys::describe_entering(
+                problem,
+                crate::problem::keys::Stage::StiffnessMatrix
+            )
         )),
     }
 }
@@ -320,11 +305,11 @@ mod tests {
             &problem.mesh.basis,
         )
         .unwrap();
-        assert!(check_basis(Path::new("p.toml"), &basis.modes).is_ok());
+        assert!(check_basis(Path::new("p.toml"), &problem, &basis.modes).is_ok());
         for bad in [0.0, f64::NAN, f64::INFINITY, -1.0] {
             let mut modes = basis.modes.clone();
             modes[2].freq_hz = bad;
-            let text = check_basis(Path::new("p.toml"), &modes)
+            let text = check_basis(Path::new("p.toml"), &problem, &modes)
                 .unwrap_err()
                 .to_string();
             assert!(

@@ -49,7 +49,7 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
         None => ModalBasis::compute(&problem.model, elements, &problem.mesh.basis)
             .map_err(|e| super::basis_error(&args.problem, &problem, e))?,
     };
-    super::check_basis(&args.problem, &basis.modes)?;
+    super::check_basis(&args.problem, &problem, &basis.modes)?;
     let report = ModesReport {
         problem: &problem.name,
         dof: bc.dof(),

@@ -290,7 +290,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     let model = kind
         .build(&problem)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
-    super::check_basis(&args.problem, &model.basis.modes)?;
+    super::check_basis(&args.problem, &problem, &model.basis.modes)?;
     let interval = sample_interval(
         &args.sample_interval,
         problem.simulation.sample_interval,
@@ -447,8 +447,17 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         eprintln!("{w}");
     }
     if let Some(e) = &output.error {
+        // A numerical failure names its stage and the keys that enter it, with their values.
+        let keys = super::failed_stage(e).map_or(String::new(), |stage| {
+            format!(
+                "; {} depends on {}",
+                stage.describe(),
+                crate::problem::keys::describe_entering(&problem, stage)
+            )
+        });
         anyhow::bail!(
-            "simulation stopped early: {e} (results up to then written to {})",
+            "{}: simulation stopped early: {e}{keys} (results up to then written to {})",
+            args.problem.display(),
             out.display()
         );
     }

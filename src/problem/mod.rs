@@ -6,6 +6,7 @@
 //! reported in one pass (unknown keys, units, ranges), one line each.
 
 mod error;
+pub mod keys;
 pub mod limits;
 pub mod schema;
 pub mod study;

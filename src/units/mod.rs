@@ -107,6 +107,18 @@ pub fn fixed(x: f64, decimals: usize) -> String {
     }
 }
 
+/// `x` rounded to `digits` significant digits and printed as [`show`] prints it
+/// (`0.5423145542816914` to 4 digits is `0.5423`, 2π is `6.283`).
+pub fn sig(x: f64, digits: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return show(x + 0.0);
+    }
+    let rounded: f64 = format!("{x:.prec$e}", prec = digits.max(1) - 1)
+        .parse()
+        .unwrap_or(x);
+    show(rounded)
+}
+
 /// `x` as Rust prints it when that is short (`0.005`, `250000`), in exponent form when it is
 /// not (`1e308`, `1e-300`), for echoing a value in a message.
 pub fn show(x: f64) -> String {
@@ -135,6 +147,11 @@ mod tests {
         assert_eq!(super::fixed(-0.02, 1), "0.0");
         assert_eq!(super::fixed(-0.06, 1), "-0.1");
         assert_eq!(super::fixed(4.9454, 3), "4.945");
+        assert_eq!(super::sig(0.5423145542816914, 4), "0.5423");
+        assert_eq!(super::sig(std::f64::consts::TAU, 4), "6.283");
+        assert_eq!(super::sig(2.03e11, 4), "2.03e11");
+        assert_eq!(super::sig(1e16, 4), "1e16");
+        assert_eq!(super::sig(-0.0, 4), "0");
     }
 }
 
