@@ -63,7 +63,7 @@ pub struct CampbellArgs {
 /// `LOW..HIGH` in rad/s, refused naming the flag and what is allowed.
 pub(crate) fn parse_omega_range(text: &str) -> anyhow::Result<[f64; 2]> {
     let allowed = format!(
-        "LOW..HIGH with a unit on each (rpm, rad/s, rev/s, Hz; a bare number other than 0 is refused) and 0 <= LOW < HIGH <= {MAX_RPM} rpm, e.g. 20rpm..200rpm"
+        "LOW..HIGH with a unit on each (rpm, rad/s, rev/s, Hz; a bare number other than 0 is refused) and 0 <= LOW < HIGH <= {MAX_RPM} rpm with HIGH at least 1 rpm (the lowest rotation speed of an operating point), e.g. 20rpm..200rpm"
     );
     let Some((lo, hi)) = text.split_once("..") else {
         anyhow::bail!("--omega-range must be {allowed}, got {text:?}");
@@ -76,7 +76,7 @@ pub(crate) fn parse_omega_range(text: &str) -> anyhow::Result<[f64; 2]> {
     };
     let (lo, hi) = (parse(lo)?, parse(hi)?);
     anyhow::ensure!(
-        lo >= 0.0 && lo < hi && hi <= from_rpm(MAX_RPM) * (1.0 + 1e-12),
+        lo >= 0.0 && lo < hi && hi >= from_rpm(1.0) && hi <= from_rpm(MAX_RPM) * (1.0 + 1e-12),
         "--omega-range must be {allowed}, got {text:?} ({} to {} rpm)",
         crate::units::short(to_rpm(lo)),
         crate::units::short(to_rpm(hi))

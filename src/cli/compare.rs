@@ -147,11 +147,19 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
         &study::TableUnits::new(units, problem.study.quantity),
     );
     println!("  results in {}", out.display());
-    // A point without a score is a missing result: not a success (the table says why).
-    let missing = points.iter().filter(|p| p.objective.is_none()).count();
+    // A point whose simulations failed is a missing result: not a success (the table says
+    // why). A point that ran but does not drill (off bottom: a score of −∞) is a result.
+    let missing = points
+        .iter()
+        .filter(|p| {
+            p.samples
+                .iter()
+                .any(|s| matches!(s.outcome, crate::study::SampleOutcome::Failed(_)))
+        })
+        .count();
     anyhow::ensure!(
         missing == 0,
-        "{missing} of {} points have no score (a simulation failed, or the score is not finite: the table's last column says why; compare.json has each sample)",
+        "{missing} of {} points have no result: a simulation failed (the table's last column says why; compare.json has each sample)",
         points.len()
     );
     Ok(())

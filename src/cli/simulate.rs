@@ -264,6 +264,35 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         unreduced: args.unreduced,
     };
     super::study::check_cost(&work, &args.problem, &problem, "simulate", args.quiet)?;
+    let interval = sample_interval(
+        &args.sample_interval,
+        problem.simulation.sample_interval,
+        duration,
+    )?;
+    // The time series is written as it is computed: it must fit on the disk (a day at 0.5 ms is
+    // about 60 GB).
+    let out_path = args.out.clone().unwrap_or_else(|| {
+        std::path::Path::new("results")
+            .join(&problem.name)
+            .join("simulate")
+    });
+    if let (Some(rows), Some(free)) = (
+        interval.rows(duration),
+        crate::study::cost::available_disk(&out_path),
+    ) {
+        let bytes =
+            rows as f64 * crate::study::cost::csv_bytes_per_row(problem.simulation.probes.len());
+        anyhow::ensure!(
+            bytes < free,
+            "{}: timeseries.csv would take about {} ({} rows), more than the {} free for {}; raise --sample-interval (key `simulation.sample_interval`, now {} s) or shorten --duration",
+            args.problem.display(),
+            crate::study::cost::bytes_text(bytes),
+            rows,
+            crate::study::cost::bytes_text(free),
+            out_path.display(),
+            crate::units::sig(duration / rows.max(1) as f64, 4)
+        );
+    }
     let (out, _out_lock) = super::study::out_dir(&args.out, &problem, "simulate")?;
 
     let bar = if args.quiet {
@@ -291,11 +320,6 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         .build(&problem)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
     super::check_basis(&args.problem, &problem, &model.basis.modes)?;
-    let interval = sample_interval(
-        &args.sample_interval,
-        problem.simulation.sample_interval,
-        duration,
-    )?;
     let settling = problem.simulation.settling_for(duration);
     let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling)
         .with_top(problem.model.top);
@@ -666,8 +690,8 @@ fn print_summary(
                 None => "no torque limit".into(),
             };
             println!(
-                "  autodriller: ROP / V0 = {:.3} | {:.1} % of the time at the WOB limit ({}) | {torque}",
-                m.rop_set_point_ratio,
+                "  autodriller: ROP / V0 = {} | {:.1} % of the time at the WOB limit ({}) | {torque}",
+                crate::units::fixed(m.rop_set_point_ratio, 3),
                 100.0 * m.wob_limit_fraction,
                 show(Force, ad.wob_limit, 1)
             );

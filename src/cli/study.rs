@@ -184,7 +184,7 @@ pub fn check_cost(
             ),
         };
         anyhow::bail!(
-            "{}: {command} would need about {} of memory, more than the {} this machine has available: {what}",
+            "{}: {command} would need about {} of memory, more than the {} available to it (the machine's free memory, or the process's limit): {what}",
             file.display(),
             cost::bytes_text(e.peak_bytes),
             cost::bytes_text(available),
