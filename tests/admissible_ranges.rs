@@ -652,3 +652,14 @@ fn a_time_series_larger_than_the_disk_is_refused_before_any_work() {
     }
     assert!(!dir.path().join("out").exists(), "refused before any work");
 }
+
+/// serde wrote a float given to an integer key in full: 1e300 as 301 digits.
+#[test]
+fn a_huge_float_for_an_integer_key_is_echoed_in_exponent_form() {
+    let msg = refused(
+        &edit("elements = 12", "elements = 1e300"),
+        "mesh.elements",
+        &["must be an integer", "1e300"],
+    );
+    assert!(!msg.contains("000000000"), "{msg}");
+}

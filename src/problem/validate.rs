@@ -164,10 +164,17 @@ fn plain_shape(key: String, message: String, text: &str) -> (String, String) {
     else {
         return (key, message);
     };
+    // serde writes a float in full (1e300 with 301 digits): as a message shows a number.
+    let float = got
+        .strip_prefix("floating point `")
+        .and_then(|n| n.strip_suffix('`'))
+        .filter(|n| n.len() > 17)
+        .and_then(|n| n.parse::<f64>().ok())
+        .map(|x| format!("floating point `{}`", crate::units::show(x)));
     let got = match got {
         "map" => "a table",
         "sequence" => "an array",
-        other => other,
+        other => float.as_deref().unwrap_or(other),
     };
     let expected_words = match expected {
         "i64" | "i32" | "u64" | "u32" | "usize" => "an integer",
