@@ -89,7 +89,7 @@ fn compare_calls_points_outside_the_constraints_infeasible() {
     let why = point["failure"].as_str().unwrap();
     assert_eq!(point["feasible"], false);
     assert!(
-        why.contains("not finite (-inf)") && why.contains("outside the bounds"),
+        why.contains("no score: the point does not drill") && why.contains("outside the bounds"),
         "{why}"
     );
 

@@ -276,21 +276,30 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
             .join(&problem.name)
             .join("simulate")
     });
-    if let (Some(rows), Some(free)) = (
-        interval.rows(duration),
-        crate::study::cost::available_disk(&out_path),
-    ) {
+    // Every accepted step: at least one row per nominal step (a lower bound).
+    let rows = interval
+        .rows(duration)
+        .or_else(|| Some((duration / problem.simulation.time_step).ceil() as usize + 1));
+    if let (Some(rows), Some(free)) = (rows, crate::study::cost::available_disk(&out_path)) {
         let bytes =
             rows as f64 * crate::study::cost::csv_bytes_per_row(problem.simulation.probes.len());
         anyhow::ensure!(
             bytes < free,
-            "{}: timeseries.csv would take about {} ({} rows), more than the {} free for {}; raise --sample-interval (key `simulation.sample_interval`, now {} s) or shorten --duration",
+            "{}: timeseries.csv would take {} {} ({} rows), more than the {} free for {}; raise --sample-interval (key `simulation.sample_interval`, now {}) or shorten --duration",
             args.problem.display(),
+            if interval.rows(duration).is_some() {
+                "about"
+            } else {
+                "at least"
+            },
             crate::study::cost::bytes_text(bytes),
             rows,
             crate::study::cost::bytes_text(free),
             out_path.display(),
-            crate::units::sig(duration / rows.max(1) as f64, 4)
+            match interval {
+                sim::SampleInterval::Fixed(dt) => format!("{} s", crate::units::sig(dt, 4)),
+                sim::SampleInterval::EveryStep => "every step".to_string(),
+            }
         );
     }
     let (out, _out_lock) = super::study::out_dir(&args.out, &problem, "simulate")?;
@@ -476,7 +485,14 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
             format!(
                 "; {} depends on {}",
                 stage.describe(),
-                crate::problem::keys::describe_entering(&problem, stage)
+                // The point that was run (the file's, or --omega and --v0).
+                crate::problem::keys::describe_entering(
+                    &crate::problem::Problem {
+                        operating_point: op,
+                        ..problem.clone()
+                    },
+                    stage
+                )
             )
         });
         anyhow::bail!(

@@ -178,9 +178,14 @@ pub fn check_cost(
                 work.modes,
             ),
             Driver::Results => format!(
-                "{} for the results of {} simulations; fewer uncertain.samples (--samples) or fewer points (--grid, --budget, optimizer.max_evaluations)",
+                "{} for the results of {} simulations; fewer uncertain.samples (--samples) or fewer points ({})",
                 cost::bytes_text(bytes),
                 work.simulations,
+                match command {
+                    "map" => "--grid",
+                    "compare" => "fewer --point",
+                    _ => "--budget, optimizer.max_evaluations",
+                }
             ),
         };
         anyhow::bail!(

@@ -155,6 +155,19 @@ fn laws_enter(stage: Stage) -> (bool, bool) {
 
 /// A value with its SI unit, as a message shows it.
 fn shown(value: f64, dimension: Dimension) -> String {
+    // The operating point in the driller's units, as it is typed.
+    match dimension {
+        AngularVelocity => {
+            return format!("{} rpm", crate::units::sig(crate::units::to_rpm(value), 4));
+        }
+        Velocity => {
+            return format!(
+                "{} m/h",
+                crate::units::sig(crate::units::to_m_per_h(value), 4)
+            );
+        }
+        _ => {}
+    }
     let unit = dimension.si_unit();
     if matches!(dimension, Dimensionless) || unit.is_empty() {
         crate::units::sig(value, 4)
@@ -249,7 +262,11 @@ mod tests {
         let start = describe_entering(&p, Start);
         assert!(start.contains("`model.length` = 35 m"), "{start}");
         assert!(start.contains("`model.wall.friction`"), "{start}");
-        assert!(start.contains("`operating_point.omega`"), "{start}");
+        assert!(
+            start.contains("`operating_point.omega` = 60 rpm"),
+            "{start}"
+        );
+        assert!(start.contains("`operating_point.v0` = 5 m/h"), "{start}");
         assert!(!start.contains("simulation.time_step"), "{start}");
         assert!(describe_entering(&p, Step).contains("`simulation.time_step`"));
         assert!(!describe_entering(&p, RestingShape).contains("model.bit."));

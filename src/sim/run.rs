@@ -156,7 +156,9 @@ pub enum SimulationError {
         limit_mpa: f64,
     },
     #[error(
-        "the pre-loaded drilling state is not physical: its {quantity} is {state:.4e} where the soft-string torque and drag of the string gives {estimate:.4e} (allowed: within 5 % of it, or a friction part within 1/{factor} to {factor} times the estimate's); check the wall law's stiffness and friction and the bit law, or start from [simulation] start = \"unloaded\""
+        "the pre-loaded drilling state is not physical: its {quantity} is {} where the soft-string torque and drag of the string gives {} (allowed: within 5 % of it, or a friction part within 1/{factor} to {factor} times the estimate's); check the wall law's stiffness and friction and the bit law, or start from [simulation] start = \"unloaded\"",
+        crate::units::sig(*state, 5),
+        crate::units::sig(*estimate, 5)
     )]
     NonPhysicalStart {
         quantity: &'static str,

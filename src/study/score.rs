@@ -325,7 +325,13 @@ pub fn score(study: &Study, op: OperatingPoint, samples: Vec<SampleResult>) -> P
     if !score.is_finite() {
         // A score of −∞ (a run that did not drill: ROP 0, MSE +∞) is no reason to hide why the
         // point is infeasible too (off bottom, V0 = 0, is below every v0 bound).
-        reasons.insert(0, format!("the score is not finite ({score})"));
+        let why = if score == f64::NEG_INFINITY {
+            "no score: the point does not drill (a zero rate of penetration, or an infinite \
+             mechanical specific energy)"
+        } else {
+            "no score: a metric it is made of is undefined"
+        };
+        reasons.insert(0, why.to_string());
         eval.failure = Some(reasons.join("; "));
         eval.samples = samples;
         return eval;
