@@ -75,6 +75,7 @@ const fn row(
     }
 }
 
+/// A [`row`] of the pipe's sizes and materials (given per section in a string of sections).
 const fn pipe(
     key: &'static str,
     dimension: Dimension,
@@ -82,11 +83,8 @@ const fn pipe(
     value: fn(&Problem) -> f64,
 ) -> Row {
     Row {
-        key,
-        dimension,
-        stages,
         per_section: true,
-        value,
+        ..row(key, dimension, stages, value)
     }
 }
 
