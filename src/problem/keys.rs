@@ -42,7 +42,8 @@ impl Stage {
 use Stage::*;
 
 const ALL: &[Stage] = &[MassMatrix, StiffnessMatrix, RestingShape, Start, Step];
-const MASS: &[Stage] = &[MassMatrix, StiffnessMatrix, RestingShape, Start, Step];
+/// The mass (weight, inertia) enters every stage.
+const MASS: &[Stage] = ALL;
 /// A rotary inertia: in the mass matrix and the motion, not in a static shape.
 const INERTIA: &[Stage] = &[MassMatrix, StiffnessMatrix, Start, Step];
 const STIFFNESS: &[Stage] = &[StiffnessMatrix, RestingShape, Start, Step];
