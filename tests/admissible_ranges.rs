@@ -400,12 +400,30 @@ fn more_probes_than_the_cap_are_refused_with_the_count() {
         &["33 positions", "at most 32"],
     );
     assert!(!msg.contains("NaN"), "{msg}");
-    let ok = vec!["\"1 m\""; 32].join(", ");
+    let ok = (0..32)
+        .map(|i| format!("\"{} m\"", 0.25 * i as f64))
+        .collect::<Vec<_>>()
+        .join(", ");
     Problem::from_toml(
         &edit("probes = [\"4 m\"]", &format!("probes = [{ok}]")),
         Path::new(FILE),
     )
     .unwrap();
+}
+
+/// Two probes at one position wrote two columns of one name and one plot over the other: the
+/// repeat is refused naming both.
+#[test]
+fn a_repeated_probe_position_is_refused() {
+    let msg = refused(
+        &edit(
+            "probes = [\"4 m\"]",
+            "probes = [\"2 m\", \"4 m\", \"400 cm\"]",
+        ),
+        "simulation.probes[2]",
+        &["4 m repeats simulation.probes[1]", "positions must differ"],
+    );
+    assert!(!msg.contains("probes[0]"), "{msg}");
 }
 
 /// `drillopt modes /dev/zero` read 1.2 GB in 4 s before failing: a problem file is read to at
@@ -573,6 +591,13 @@ fn compare_with_failed_simulations_exits_non_zero() {
         stderr.contains("1 of 1 points have no result: a simulation failed"),
         "{stderr}"
     );
+    // The failed row shows dashes for the metrics it lacks, not NaN.
+    let row = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("60.0"))
+        .unwrap_or_else(|| panic!("no row: {stdout}"));
+    assert!(row.contains("failed") && row.contains(" - "), "{row}");
+    assert!(!stdout.contains("NaN"), "{stdout}");
     assert!(dir.path().join("out/compare.json").exists());
     let out = drillopt(&["compare", "--point", "60rpm,0m/h"], dir.path(), TINY);
     assert!(
@@ -589,7 +614,6 @@ fn compare_with_failed_simulations_exits_non_zero() {
 #[cfg(unix)]
 #[test]
 fn a_mesh_beyond_the_processs_memory_limit_is_refused_not_a_panic() {
-    use std::os::unix::process::CommandExt;
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("fine.toml");
     std::fs::write(&file, edit("elements = 12", "elements = 2000")).unwrap();
@@ -598,6 +622,23 @@ fn a_mesh_beyond_the_processs_memory_limit_is_refused_not_a_panic() {
         .arg(&file)
         .args(["--duration", "0.05", "--quiet", "--out"])
         .arg(dir.path().join("out"));
+    let out = under_4_gb(cmd).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    for w in [
+        "fine.toml",
+        "simulate would need about 5.8 GB",
+        "2000-element mesh",
+        "mesh.elements",
+    ] {
+        assert!(stderr.contains(w), "{w:?} missing: {stderr}");
+    }
+}
+
+/// `cmd` run under a 4 GB address-space limit (`prlimit --as`).
+#[cfg(unix)]
+fn under_4_gb(mut cmd: Command) -> Command {
+    use std::os::unix::process::CommandExt;
     // SAFETY: setrlimit only, between fork and exec.
     unsafe {
         cmd.pre_exec(|| {
@@ -611,17 +652,36 @@ fn a_mesh_beyond_the_processs_memory_limit_is_refused_not_a_panic() {
             Ok(())
         });
     }
-    let out = cmd.output().unwrap();
+    cmd
+}
+
+/// `campbell --unreduced` on a long mesh ran for hours (200 elements: beyond 11 CPU min for five
+/// speeds) or past the memory: the dense eigen-solve of the first-order form is estimated before
+/// any work and refused beyond the memory, naming the flag.
+#[cfg(unix)]
+#[test]
+fn an_unreduced_campbell_diagram_beyond_the_memory_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("fine.toml");
+    std::fs::write(&file, edit("elements = 12", "elements = 600")).unwrap();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_drillopt"));
+    cmd.args(["campbell"])
+        .arg(&file)
+        .args(["--unreduced", "--quiet", "--out"])
+        .arg(dir.path().join("out"));
+    let out = under_4_gb(cmd).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     for w in [
         "fine.toml",
-        "simulate would need about 5.8 GB",
-        "2000-element mesh",
-        "mesh.elements",
+        "campbell would need about",
+        "dense eigen-solve of 7212 states",
+        "unreduced 600-element model",
+        "drop --unreduced",
     ] {
         assert!(stderr.contains(w), "{w:?} missing: {stderr}");
     }
+    assert!(!dir.path().join("out").exists(), "refused before any work");
 }
 
 /// A day of simulated time at a 1 µs output interval would write 33 TB of time series: refused

@@ -199,5 +199,9 @@ fn a_misspelt_required_key_does_not_hide_the_other_refusals() {
     ] {
         assert!(keys.contains(&key), "{key}: {err}");
     }
-    assert!(err.to_string().contains("missing field"), "{err}");
+    assert!(
+        err.to_string()
+            .contains("max_probability`: is required: the largest admissible probability"),
+        "{err}"
+    );
 }

@@ -113,6 +113,18 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
         args.points
     );
     let k = multiple(args, &problem)?;
+    let work = crate::study::cost::Work {
+        elements: problem.mesh.elements,
+        modes: crate::study::cost::basis_size(&problem.mesh.basis),
+        simulations: 0,
+        seconds_each: 0.0,
+        models_held: 1,
+        concurrent: 1,
+        holds_results: false,
+        unreduced: args.unreduced,
+        eigensolves: args.points as u64 + crate::study::cost::CAMPBELL_REFINEMENT_SOLVES,
+    };
+    super::study::check_cost(&work, &args.problem, &problem, "campbell", args.quiet)?;
     let (out, _out_lock) = super::study::out_dir(&args.out, &problem, "campbell")?;
     let kind = if args.unreduced {
         ModelKind::Unreduced

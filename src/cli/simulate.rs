@@ -262,6 +262,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         concurrent: 1,
         holds_results: false,
         unreduced: args.unreduced,
+        eigensolves: 0,
     };
     super::study::check_cost(&work, &args.problem, &problem, "simulate", args.quiet)?;
     let interval = sample_interval(

@@ -137,6 +137,7 @@ pub fn study_work(problem: &Problem, points: usize) -> crate::study::cost::Work 
         },
         holds_results: true,
         unreduced: false,
+        eigensolves: 0,
     }
 }
 
@@ -177,6 +178,18 @@ pub fn check_cost(
                 work.models_held,
                 work.modes,
             ),
+            Driver::Eigensolve => format!(
+                "{} for the dense eigen-solve of {} states at each rotation speed{}",
+                cost::bytes_text(bytes),
+                work.states(),
+                if work.unreduced {
+                    format!(
+                        " (the unreduced {elements}-element model); drop --unreduced or lower mesh.elements"
+                    )
+                } else {
+                    "; a smaller mesh.basis".to_string()
+                }
+            ),
             Driver::Results => format!(
                 "{} for the results of {} simulations; fewer uncertain.samples (--samples) or fewer points ({})",
                 cost::bytes_text(bytes),
@@ -195,7 +208,20 @@ pub fn check_cost(
             cost::bytes_text(available),
         );
     }
-    if !quiet && e.cpu_seconds > cost::WARN_CPU_HOURS * 3600.0 {
+    if !quiet && e.cpu_seconds > cost::WARN_CPU_HOURS * 3600.0 && work.eigensolves > 0 {
+        eprintln!(
+            "note: {command} of {} may take up to about {} of CPU time ({} dense eigen-solves of {} states{}; an upper estimate)",
+            problem.name,
+            cost::seconds_text(e.cpu_seconds),
+            work.eigensolves,
+            work.states(),
+            if work.unreduced {
+                format!(", the unreduced {elements}-element model")
+            } else {
+                String::new()
+            },
+        );
+    } else if !quiet && e.cpu_seconds > cost::WARN_CPU_HOURS * 3600.0 {
         let threads = work.concurrent.max(1) as f64;
         eprintln!(
             "note: {command} of {} may take up to about {} of CPU time ({} simulation{} of {} s on {elements} elements and {} basis vectors{}; an upper estimate from the seed string's stick-slipping cost, a steady string costs far less), about {} on {} thread{}",
@@ -576,18 +602,26 @@ pub(super) fn table_row(p: &PointEvaluation, t: &TableUnits) -> String {
         (Some(why), false) => format!("no: {why}"),
         (None, false) => "no".to_string(),
     };
+    // A metric a failed point lacks is a dash, not NaN.
+    let cell = |x: f64, width: usize, digits: usize| {
+        if x.is_finite() {
+            format!("{x:width$.digits$}")
+        } else {
+            format!("{:>width$}", "-")
+        }
+    };
     format!(
-        "{:7.1} {:8.2} {} {} {:4} {:8.3} {:6.2} {:7.2} {:9.1} {:8.1} {feasible}",
+        "{:7.1} {:8.2} {} {} {:4} {} {} {} {} {} {feasible}",
         p.omega_rpm,
         t.of(p.op().kind().unit(), p.op().shown_set_point()),
         score,
         half_width,
         p.samples_used,
-        t.of("m/h", m("mean_rop_m_per_h")),
-        m("stick_slip_severity"),
-        100.0 * m("stick_fraction"),
-        m("impacts_per_s"),
-        t.of("kN", m("mean_wob_n") / 1e3),
+        cell(t.of("m/h", m("mean_rop_m_per_h")), 8, 3),
+        cell(m("stick_slip_severity"), 6, 2),
+        cell(100.0 * m("stick_fraction"), 7, 2),
+        cell(m("impacts_per_s"), 9, 1),
+        cell(t.of("kN", m("mean_wob_n") / 1e3), 8, 1),
     )
 }
 

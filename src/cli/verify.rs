@@ -74,6 +74,7 @@ pub fn run(args: &VerifyArgs, units: UnitSystem) -> anyhow::Result<super::Outcom
         concurrent: 1,
         holds_results: false,
         unreduced: false,
+        eigensolves: 0,
     };
     super::study::check_cost(&work, &args.problem, &problem, "verify", args.quiet)?;
     if !args.quiet {

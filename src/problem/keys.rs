@@ -146,6 +146,16 @@ static ROWS: [Row; 20] = [
     }),
 ];
 
+/// The dimension of a problem-file key of the model's parameter table or of this one (for the
+/// range a message gives); `None` for other keys.
+pub fn dimension_of(key: &str) -> Option<Dimension> {
+    crate::model::parameters::STRING_PARAMETERS
+        .iter()
+        .find(|r| r.spec.key == key)
+        .map(|r| r.spec.dimension)
+        .or_else(|| ROWS.iter().find(|r| r.key == key).map(|r| r.dimension))
+}
+
 /// Whether the laws' parameters enter `stage`: the wall's from the resting shape on, the bit's
 /// in the start and the march.
 fn laws_enter(stage: Stage) -> (bool, bool) {

@@ -105,6 +105,17 @@ pub(super) fn parse(text: &str, file: &Path) -> Result<Parsed, ProblemError> {
             // key the file lacks (a misspelt one among the unknown keys): reported, and a
             // stand-in so that the rest of the file is read and checked in the same pass.
             if !removed.contains(&key) {
+                // What the key takes, when the tables know it.
+                let message = match (
+                    super::limits::range_of(&key),
+                    super::keys::dimension_of(&key),
+                ) {
+                    (Some(r), Some(dim)) => {
+                        let (unit, factor) = shown_in(&key, dim);
+                        format!("is required: a value {}", r.describe_in(unit, factor))
+                    }
+                    _ => required(&key).unwrap_or(message),
+                };
                 errors.push(KeyError {
                     key: key.clone(),
                     message,
@@ -239,6 +250,70 @@ fn insert_key(value: &mut toml::Value, path: &[&str], new: toml::Value) -> bool 
     parent_table(value, path)
         .map(|(t, key)| t.insert(key.to_string(), new))
         .is_some()
+}
+
+/// What a required key without a range in the tables takes, for its "missing" refusal (array
+/// indices read as `[*]`).
+fn required(key: &str) -> Option<String> {
+    let mut general = String::with_capacity(key.len());
+    let mut in_index = false;
+    for ch in key.chars() {
+        match ch {
+            '[' => {
+                in_index = true;
+                general.push_str("[*");
+            }
+            ']' => {
+                in_index = false;
+                general.push(']');
+            }
+            _ if in_index => {}
+            _ => general.push(ch),
+        }
+    }
+    if matches!(
+        general.as_str(),
+        "objective.risk[*].metric" | "constraints.chance[*].metric"
+    ) {
+        let keys: Vec<&str> = crate::metrics::catalogue::keys().collect();
+        return Some(format!(
+            "is required: the metric, one of {}",
+            keys.join(", ")
+        ));
+    }
+    Some(match general.as_str() {
+        "constraints.omega" => {
+            "is required: the range [min, max] of Ω (e.g. [\"40 rpm\", \"200 rpm\"]), each end in [1, 1000] rpm"
+        }
+        "expect.omega" => {
+            "is required: the range [min, max] of Ω the optimum is known to lie in (e.g. [\"100 rpm\", \"140 rpm\"])"
+        }
+        "expect.reason" => "is required: why the optimum lies in the expected range (a sentence)",
+        "mesh.elements" => "is required: the number of beam elements, an integer in [1, 2000]",
+        "mesh.basis.bending" | "mesh.basis.torsional" | "mesh.basis.axial" => {
+            "is required: the family's modes, an integer count in [1, mesh.elements] or a cutoff frequency such as \"60 Hz\""
+        }
+        "uncertain.samples" => {
+            "is required: the Monte Carlo samples per point, an integer in [1, 10000]"
+        }
+        "uncertain.parameter[*].key" => {
+            "is required: the problem key the law varies (e.g. \"model.wall.friction\")"
+        }
+        "uncertain.parameter[*].law" => {
+            "is required: the sampling law, one of \"gamma\", \"lognormal\", \"normal\", \"uniform\""
+        }
+        "objective.risk[*].weight" => {
+            "is required: the penalty's weight, a finite number >= 0 (score units per metric unit)"
+        }
+        "constraints.chance[*].threshold" => {
+            "is required: the metric's limit, in the metric's unit (e.g. 1.5 for stick_slip_severity)"
+        }
+        "constraints.chance[*].max_probability" => {
+            "is required: the largest admissible probability of exceeding the threshold, in [0, 1)"
+        }
+        _ => return None,
+    }
+    .to_string())
 }
 
 /// The key named in serde's "missing field `x`" / "unknown field `x`" messages.
@@ -1264,7 +1339,20 @@ fn simulation(c: &Checker, s: &SimulationSection, length: f64) -> Result<Simulat
                 Length,
             )
         })
-        .collect::<Result<_, _>>()?;
+        .collect::<Result<Vec<f64>, _>>()?;
+    // Each probe is a column of timeseries.csv and a plot named by its position: a repeated
+    // position would write two columns of one name and one plot over the other.
+    for (j, x) in probes.iter().enumerate() {
+        if let Some(i) = probes[..j].iter().position(|y| y == x) {
+            c.record(
+                &format!("simulation.probes[{j}]"),
+                format!(
+                    "{} m repeats simulation.probes[{i}]: each probe is a column of timeseries.csv and a plot named by its position, so positions must differ",
+                    crate::units::short(*x)
+                ),
+            );
+        }
+    }
     let start = match s.start.as_deref() {
         None | Some("preloaded") => Start::Preloaded,
         Some("unloaded") => Start::Unloaded,

@@ -34,6 +34,20 @@ pub const MIN_CPU_S_PER_SECOND: f64 = 0.3;
 /// The unreduced model's cost relative to the reduced one at the same mesh (docs/model.md).
 pub const UNREDUCED_FACTOR: f64 = 100.0;
 
+/// CPU seconds of one eigen-solve of the Campbell diagram's first-order form, per cubed state
+/// size s = 2n (faer's general real eigendecomposition with the labelling of its modes): 2.8 s per
+/// rotation speed at s ≈ 600 (the 8 m string on 50 elements, unreduced; 12.1 s for 4 speeds,
+/// 23.3 s for 8) and 73 s for 2 speeds and the crossings at s ≈ 1200 (100 elements).
+pub const CPU_S_PER_STATE_CUBED: f64 = 1.3e-8;
+
+/// Bytes held per squared state size of that eigen-solve (the first-order matrix, its Schur form
+/// and the complex eigenvectors): 120 MB measured at s ≈ 1200.
+pub const BYTES_PER_STATE_SQUARED: f64 = 96.0;
+
+/// Eigen-solves a Campbell diagram adds to its rotation speeds to refine the critical speeds
+/// (an allowance: 1.2 measured for two crossings at 100 elements).
+pub const CAMPBELL_REFINEMENT_SOLVES: u64 = 8;
+
 /// Beyond this many CPU hours a command says so before it starts.
 pub const WARN_CPU_HOURS: f64 = 1.0;
 
@@ -56,6 +70,10 @@ pub struct Work {
     pub holds_results: bool,
     /// Whether the model is the unreduced finite-element model.
     pub unreduced: bool,
+    /// Dense eigen-solves of the first-order form of the model's linearisation (the Campbell
+    /// diagram's rotation speeds and refinements; 0 for a simulation command). Their state size
+    /// is twice the basis, or twice the DOFs when `unreduced`.
+    pub eigensolves: u64,
 }
 
 /// The input that drives a memory term, for the refusal.
@@ -67,6 +85,8 @@ pub enum Driver {
     Models,
     /// The results held (`uncertain.samples`, the points).
     Results,
+    /// The dense eigen-solve of the Campbell diagram (`--unreduced`, `mesh.elements`).
+    Eigensolve,
 }
 
 /// The estimate of [`Work`].
@@ -86,6 +106,15 @@ impl Work {
         6.0 * (self.elements as f64 + 1.0)
     }
 
+    /// The state size of the first-order eigenproblem, 2n (n: the basis, or the DOFs unreduced).
+    pub fn states(&self) -> f64 {
+        2.0 * if self.unreduced {
+            self.dofs()
+        } else {
+            self.modes as f64
+        }
+    }
+
     /// The estimate (module doc).
     pub fn estimate(&self) -> Estimate {
         let d = self.dofs();
@@ -102,10 +131,17 @@ impl Work {
         };
         // The binary, its runtime and the problem: about 24 MB measured at rest.
         let base = 24e6;
+        let s = self.states();
+        let eigen = if self.eigensolves > 0 {
+            BYTES_PER_STATE_SQUARED * s * s
+        } else {
+            0.0
+        };
         let terms = [
             (Driver::Mesh, construction),
             (Driver::Models, models),
             (Driver::Results, results),
+            (Driver::Eigensolve, eigen),
         ];
         let largest = terms
             .into_iter()
@@ -118,13 +154,14 @@ impl Work {
         Estimate {
             // Construction is transient and the results come after it: the larger of the two
             // beside what stays.
-            peak_bytes: base + models + construction.max(results),
+            peak_bytes: base + models + construction.max(results).max(eigen),
             largest,
             cpu_seconds: (CPU_S_PER_ELEMENT_MODE * self.elements as f64 * self.modes as f64)
                 .max(MIN_CPU_S_PER_SECOND)
                 * factor
                 * self.seconds_each
-                * self.simulations as f64,
+                * self.simulations as f64
+                + CPU_S_PER_STATE_CUBED * s * s * s * self.eigensolves as f64,
         }
     }
 }
@@ -274,7 +311,36 @@ mod tests {
             concurrent: 1,
             holds_results: false,
             unreduced: false,
+            eigensolves: 0,
         }
+    }
+
+    /// A Campbell diagram: the unreduced 100-element string (2 speeds, 73 s, 120 MB measured)
+    /// and the 200-element one that ran beyond 11 CPU min for 5 speeds; the 2000-element one
+    /// cannot be held (about 55 GB).
+    #[test]
+    fn a_campbell_diagram_costs_its_dense_eigen_solves() {
+        let campbell = |elements, points| Work {
+            simulations: 0,
+            seconds_each: 0.0,
+            unreduced: true,
+            eigensolves: points + CAMPBELL_REFINEMENT_SOLVES,
+            ..work(elements)
+        };
+        let e = campbell(100, 2).estimate();
+        assert!(e.cpu_seconds > 73.0 && e.cpu_seconds < 4.0 * 73.0, "{e:?}");
+        assert!(e.peak_bytes > 120e6 && e.peak_bytes < 3.0 * 120e6, "{e:?}");
+        assert!(campbell(200, 5).estimate().cpu_seconds > 11.0 * 60.0);
+        let long = campbell(2000, 91).estimate();
+        assert_eq!(long.largest.0, Driver::Eigensolve);
+        assert!(long.peak_bytes > 50e9, "{long:?}");
+        // The reduced seed's diagram: 0.34 s measured for 91 speeds.
+        let reduced = Work {
+            unreduced: false,
+            ..campbell(105, 91)
+        };
+        let t = reduced.estimate().cpu_seconds;
+        assert!(t > 0.34 && t < 5.0, "{t}");
     }
 
     /// The terms against what was measured: the seed (105 elements, 50 vectors, 90 s) in
