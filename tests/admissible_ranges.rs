@@ -190,7 +190,7 @@ fn constraint_bounds_and_the_depth_of_cut_take_the_operating_point_ranges() {
                 &format!("max_depth_of_cut = {d}"),
             ),
             "constraints.max_depth_of_cut",
-            &["[0.000001, 0.1] m"],
+            &["[1e-6, 0.1] m"],
         );
     }
     // Refused before solve simulates anything (it simulated 2.4e12 rpm and called it feasible).
@@ -232,7 +232,7 @@ fn command_line_quantities_take_the_ranges_of_their_keys() {
         (
             "--duration",
             "1e-300",
-            &["`simulation.duration`", "[0.000001, 86400] s"][..],
+            &["`simulation.duration`", "[1e-6, 86400] s"][..],
         ),
     ] {
         let out = drillopt(&["simulate", flag, value, "--quiet"], dir.path(), TINY);
@@ -252,7 +252,7 @@ fn open_lower_ends_no_longer_admit_vanishing_values() {
     refused(
         &add("model.pipe", "yield_strength = \"1e-300 Pa\""),
         "model.pipe.yield_strength",
-        &["[10000000, 3000000000] Pa"],
+        &["[1e7, 3e9] Pa"],
     );
     for key in ["shear_factor", "torsion_factor"] {
         // The file's own line of the key, whatever its value, is replaced.
@@ -274,7 +274,7 @@ fn open_lower_ends_no_longer_admit_vanishing_values() {
     refused(
         &edit("limit_force = \"250 kN\"", "limit_force = \"1e-300 N\""),
         "model.bit.limit_force",
-        &["[1000, 5000000] N"],
+        &["[1000, 5e6] N"],
     );
     refused(
         &edit("gravity = \"9.81 m/s^2\"", "gravity = \"1e-300 m/s^2\""),

@@ -84,7 +84,7 @@ fn unknown_laws_foreign_keys_and_missing_parameters_are_refused_by_key() {
     refused(
         &t.replace("\"200 MPa\"", "\"200 GPa\""),
         "model.bit.specific_energy",
-        &["[1000000, 2000000000] Pa"],
+        &["[1e6, 2e9] Pa"],
     );
     // The exponential law refuses Detournay's keys just as well.
     let seed = std::fs::read_to_string(common::SEED).unwrap();

@@ -34,7 +34,7 @@ fn a_window_too_short_for_metrics_is_refused_before_it_runs() {
         assert!(
             stderr.contains("--duration")
                 && stderr.contains("simulation.duration")
-                && stderr.contains("[0.000001, 86400] s"),
+                && stderr.contains("[1e-6, 86400] s"),
             "{stderr}"
         );
         assert!(!dir.path().join("summary.json").exists());

@@ -150,7 +150,7 @@ fn an_explore_window_must_be_shorter_with_its_settling_inside() {
         &e,
         &[
             "optimizer.explore.duration",
-            "in [0.000001, 86400] s",
+            "in [1e-6, 86400] s",
             "the range of simulation.duration, got -1 s",
         ],
     );

@@ -36,8 +36,8 @@ fn the_key_reads_a_time_or_step_and_defaults_to_half_a_millisecond() {
 #[test]
 fn the_key_refuses_zero_negative_wrong_units_and_out_of_range() {
     for (value, words) in [
-        ("0", &["must be in [0.000001, 1] s"][..]),
-        ("\"-1 ms\"", &["must be in [0.000001, 1] s"][..]),
+        ("0", &["must be in [1e-6, 1] s"][..]),
+        ("\"-1 ms\"", &["must be in [1e-6, 1] s"][..]),
         ("\"2 m\"", &["unit"][..]),
         ("\"2 s\"", &["1 µs and 1 s"][..]),
         ("\"0.5 us\"", &["1 µs and 1 s"][..]),

@@ -328,8 +328,28 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     };
     let model = kind
         .build(&problem)
-        .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
-    super::check_basis(&args.problem, &problem, &model.basis.modes)?;
+        .map_err(|e| super::basis_error(&args.problem, &problem, e))
+        .and_then(|model| {
+            super::check_basis(&args.problem, &problem, &model.basis.modes)?;
+            Ok(model)
+        });
+    let model = match model {
+        Ok(model) => model,
+        Err(e) => {
+            // Nothing was simulated: a summary that says so replaces any earlier one.
+            bar.finish_and_clear();
+            let summary = report::NotStartedJson {
+                record: ProblemRecord::of(&problem, &args.problem),
+                operating_point: report::PointJson::at(op),
+                duration_s: duration,
+                elements: problem.mesh.elements,
+                status: RunStatus::NotStarted,
+                error: format!("{e:#}"),
+            };
+            report::write_json_atomic(&out.join("summary.json"), &summary)?;
+            return Err(e);
+        }
+    };
     let settling = problem.simulation.settling_for(duration);
     let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling)
         .with_top(problem.model.top);

@@ -430,7 +430,7 @@ pub struct InadmissibleDraw {
     pub key: &'static str,
     pub sample: usize,
     pub value: f64,
-    /// What is allowed, in words ("must be in [1000, 5000000] N (…)").
+    /// What is allowed, in words ("must be in [1000, 5e6] N (…)").
     pub why: String,
 }
 

@@ -49,7 +49,7 @@ pub use study_plots::{
     ConstraintLine, EvaluatedPoint, Mark, MarkKind, MetricRow, OverlayRun, Region, SetPointAxis,
     StarredPoint, plot_bit_speed_overlay, plot_heatmap, plot_metric_samples, plot_optimizer_path,
 };
-pub use summary::{RunStatus, SummaryJson};
+pub use summary::{NotStartedJson, RunStatus, SummaryJson};
 pub use units::{
     M_PER_H_PER_M_PER_S, MetricDisplay, REV_PER_RAD, RPM_PER_RAD_S, fmt_sig, operating_point_text,
     short,

@@ -19,6 +19,26 @@ pub enum RunStatus {
     /// of the window up to then (when it holds any of the analysis window).
     #[serde(rename = "interrupted")]
     Interrupted,
+    /// The model could not be built (the eigen-solve, the resting shape): nothing was simulated;
+    /// `error` says why and names the keys that enter the stage.
+    #[serde(rename = "not started")]
+    NotStarted,
+}
+
+/// `summary.json` of a `drillopt simulate` whose model could not be built: it replaces an
+/// earlier run's summary in the folder, so that no stale result reads as this run's.
+#[derive(Debug, Clone, Serialize)]
+pub struct NotStartedJson<'a> {
+    /// Problem name, file, text, hash and drillopt's version.
+    #[serde(flatten)]
+    pub record: ProblemRecord<'a>,
+    pub operating_point: super::PointJson,
+    pub duration_s: f64,
+    pub elements: usize,
+    /// Always [`RunStatus::NotStarted`].
+    pub status: RunStatus,
+    /// Why, with the stage and the keys entering it.
+    pub error: String,
 }
 
 /// `summary.json` of `drillopt simulate`.

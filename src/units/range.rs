@@ -72,7 +72,7 @@ impl Range {
         let show = |x: f64| {
             let v = x / factor;
             // 1e22 was written with 23 digits: large and tiny ends in exponent form.
-            if v != 0.0 && !(1e-9..1e15).contains(&v.abs()) {
+            if v != 0.0 && !(EXPONENT_BELOW..EXPONENT_FROM).contains(&v.abs()) {
                 return format!("{v:e}");
             }
             let t = format!("{v:.9}");
@@ -116,8 +116,14 @@ impl Range {
 
 /// An end of a range as Rust prints it, in exponent form beyond 1e15 or below 1e-9 (1e22 was
 /// written with 23 digits).
+/// Range ends below this magnitude are written in exponent form (`1e-6`, not `0.000001`).
+const EXPONENT_BELOW: f64 = 1e-3;
+/// Range ends from this magnitude on are written in exponent form (`1e12`, not
+/// `1000000000000`).
+const EXPONENT_FROM: f64 = 1e6;
+
 fn wide(x: f64) -> String {
-    if x != 0.0 && !(1e-9..1e15).contains(&x.abs()) {
+    if x != 0.0 && !(EXPONENT_BELOW..EXPONENT_FROM).contains(&x.abs()) {
         format!("{x:e}")
     } else {
         format!("{x}")
@@ -160,6 +166,18 @@ mod tests {
         assert_eq!(
             v0.describe_in("m/h", 1.0 / 3600.0),
             "in [0, 1000] m/h (at most 1000 m/h)"
+        );
+        // Ends of many digits in exponent form, in every unit (was [0, 100000000000000] N/m
+        // beside [0, 1e15] N/m).
+        let k = Range::closed(1e9, 1e12, "");
+        assert_eq!(k.describe(Dimension::Pressure), "in [1e9, 1e12] Pa ()");
+        assert_eq!(k.describe_in("Pa", 1.0), "in [1e9, 1e12] Pa ()");
+        let dt = Range::closed(1e-6, 86_400.0, "");
+        assert_eq!(dt.describe(Dimension::Time), "in [1e-6, 86400] s ()");
+        assert_eq!(dt.describe_in("s", 1.0), "in [1e-6, 86400] s ()");
+        assert_eq!(
+            Range::closed(0.001, 999_999.0, "").describe(Dimension::Time),
+            "in [0.001, 999999] s ()"
         );
     }
 }
