@@ -438,7 +438,19 @@ impl SampleInterval {
     pub fn rows(self, duration: f64) -> Option<usize> {
         match self {
             SampleInterval::EveryStep => None,
-            SampleInterval::Fixed(dt) => Some((duration / dt * (1.0 + 1e-9)).floor() as usize + 1),
+            SampleInterval::Fixed(dt) => {
+                // A whole number of intervals up to round-off (0.3 / 0.1 = 2.9999999999999996)
+                // counts whole; a tolerance relative to the count added rows to long runs (a day
+                // at 1 µs: 86 400 000 087 rows).
+                let n = duration / dt;
+                let whole = n.round();
+                let n = if (n - whole).abs() <= 1e-9 * whole.max(1.0) {
+                    whole
+                } else {
+                    n.floor()
+                };
+                Some(n as usize + 1)
+            }
         }
     }
 }

@@ -201,6 +201,12 @@ mod tests {
         assert_eq!(SampleInterval::Fixed(0.1).rows(0.3), Some(4));
         assert_eq!(SampleInterval::Fixed(0.25).rows(2.0), Some(9));
         assert_eq!(SampleInterval::EveryStep.rows(2.0), None);
+        // A day at 1 µs: exactly 86 400 000 000 intervals (was 87 rows more).
+        assert_eq!(
+            SampleInterval::Fixed(1e-6).rows(86_400.0),
+            Some(86_400_000_001)
+        );
+        assert_eq!(SampleInterval::Fixed(0.3).rows(1.0), Some(4));
     }
 
     #[test]
