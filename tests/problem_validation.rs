@@ -373,13 +373,49 @@ fn a_key_set_twice_is_refused() {
         + 2;
     let err = load(&text).expect_err("a duplicate key must be refused");
     let msg = err.to_string();
-    // toml's message is only "duplicate key": the line number is what points at it.
+    // toml's message is only "duplicate key": the key is named from the span it points at.
     assert!(msg.contains(FILE), "{msg}");
-    assert!(msg.contains("duplicate key"), "{msg}");
+    assert!(
+        msg.contains("duplicate key `elements`: a key is given once per table"),
+        "{msg}"
+    );
     match err {
         ProblemError::Syntax { line, .. } => assert_eq!(line, second, "{msg}"),
         other => panic!("expected a Syntax error, got {other:?}"),
     }
+    // A table header given twice.
+    let text = format!("{SEED}\n[mesh]\nelements = 105\n");
+    let msg = load(&text).expect_err("refused").to_string();
+    assert!(
+        msg.contains("duplicate key `mesh`: this table header is given twice"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn a_missing_table_and_a_laws_missing_parameter_say_what_they_take() {
+    let lines: Vec<&str> = SEED.lines().collect();
+    let (start, end) = section(&lines, "model.wall");
+    let text = join(
+        &lines[..start - 1]
+            .iter()
+            .chain(&lines[end..])
+            .map(|l| l.to_string())
+            .collect::<Vec<_>>(),
+    );
+    refused(
+        &text,
+        "model.wall",
+        &["is required: the table [model.wall]"],
+    );
+    refused(
+        &remove("model.wall", "cubic_stiffness"),
+        "model.wall.cubic_stiffness",
+        &[
+            "is required by law = \"cubic\"",
+            "a value in [0, 1e22] N/m3",
+        ],
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -452,9 +488,17 @@ fn a_missing_required_key_is_refused() {
 fn a_missing_required_table_is_refused() {
     let text = SEED.replace("[model.fluid]\ndensity = \"1200 kg/m^3\"\n", "");
     assert_ne!(text, SEED);
-    refused(&text, "model.fluid", &["missing field"]);
+    refused(
+        &text,
+        "model.fluid",
+        &["is required: the table [model.fluid]"],
+    );
     let start = SEED.find("[simulation]").unwrap();
-    refused(&SEED[..start], "simulation", &["missing field"]);
+    refused(
+        &SEED[..start],
+        "simulation",
+        &["is required: the table [simulation]"],
+    );
 }
 
 #[test]

@@ -162,26 +162,34 @@ fn laws_enter(stage: Stage) -> (bool, bool) {
     (STATIC.contains(&stage), DYNAMIC.contains(&stage))
 }
 
-/// A value with its SI unit, as a message shows it.
-fn shown(value: f64, dimension: Dimension) -> String {
-    // The operating point in the driller's units, as it is typed.
+/// `value` to 4 significant digits, in exponent form from a million on (`1.5e8`, not
+/// `150000000`).
+fn digits(value: f64) -> String {
+    let text = crate::units::sig(value, 4);
+    match text.parse::<f64>() {
+        Ok(v) if v.abs() >= 1e6 && v.is_finite() => format!("{v:e}"),
+        _ => text,
+    }
+}
+
+/// The value of `key` with its unit, as a message shows it: rotation speeds in rpm, the feed and
+/// the bit's velocities in m/h (as a driller types them), the wall's impact speed and every other
+/// quantity in SI.
+fn shown(key: &str, value: f64, dimension: Dimension) -> String {
     match dimension {
         AngularVelocity => {
-            return format!("{} rpm", crate::units::sig(crate::units::to_rpm(value), 4));
+            return format!("{} rpm", digits(crate::units::to_rpm(value)));
         }
-        Velocity => {
-            return format!(
-                "{} m/h",
-                crate::units::sig(crate::units::to_m_per_h(value), 4)
-            );
+        Velocity if !key.starts_with("model.wall.") => {
+            return format!("{} m/h", digits(crate::units::to_m_per_h(value)));
         }
         _ => {}
     }
     let unit = dimension.si_unit();
     if matches!(dimension, Dimensionless) || unit.is_empty() {
-        crate::units::sig(value, 4)
+        digits(value)
     } else {
-        format!("{} {unit}", crate::units::sig(value, 4))
+        format!("{} {unit}", digits(value))
     }
 }
 
@@ -205,7 +213,10 @@ pub fn entering(problem: &Problem, stage: Stage) -> Vec<(String, String)> {
             }
             continue;
         }
-        out.push((r.key.to_string(), shown((r.value)(problem), r.dimension)));
+        out.push((
+            r.key.to_string(),
+            shown(r.key, (r.value)(problem), r.dimension),
+        ));
     }
     let (wall, bit) = laws_enter(stage);
     let laws: [(bool, &dyn Law); 2] = [
@@ -215,7 +226,10 @@ pub fn entering(problem: &Problem, stage: Stage) -> Vec<(String, String)> {
     for (enters, law) in laws {
         if enters {
             for (i, spec) in law.parameters().iter().enumerate() {
-                out.push((spec.key.to_string(), shown(law.value(i), spec.dimension)));
+                out.push((
+                    spec.key.to_string(),
+                    shown(spec.key, law.value(i), spec.dimension),
+                ));
             }
         }
     }
@@ -279,6 +293,31 @@ mod tests {
         assert!(!start.contains("simulation.time_step"), "{start}");
         assert!(describe_entering(&p, Step).contains("`simulation.time_step`"));
         assert!(!describe_entering(&p, RestingShape).contains("model.bit."));
+    }
+
+    #[test]
+    fn values_read_in_their_units_with_their_digits() {
+        // The seed's wall stiffness and Young's modulus in exponent form; an impact speed in
+        // m/s (it read 360 m/h), the feed and the bit's velocities in m/h.
+        let start = describe_entering(&seed(), Start);
+        assert!(
+            start.contains("`model.wall.stiffness` = 1e10 N/m"),
+            "{start}"
+        );
+        assert!(
+            start.contains("`model.pipe.youngs_modulus` = 2.03e11 Pa"),
+            "{start}"
+        );
+        assert_eq!(shown("model.wall.impact_speed", 0.1, Velocity), "0.1 m/s");
+        assert_eq!(
+            shown("model.bit.specific_energy", 1.5e8, Pressure),
+            "1.5e8 Pa"
+        );
+        assert_eq!(
+            shown("operating_point.v0", 20.0 / 3600.0, Velocity),
+            "20 m/h"
+        );
+        assert_eq!(shown("mesh.elements", 162.0, Dimensionless), "162");
     }
 
     #[test]

@@ -114,7 +114,14 @@ pub(super) fn parse(text: &str, file: &Path) -> Result<Parsed, ProblemError> {
                         let (unit, factor) = shown_in(&key, dim);
                         format!("is required: a value {}", r.describe_in(unit, factor))
                     }
-                    _ => required(&key).unwrap_or(message),
+                    _ => required(&key).unwrap_or_else(|| {
+                        // A whole table left out: `[model.wall]`.
+                        if message.starts_with("missing field") && !key.contains('[') {
+                            format!("is required: the table [{key}] (see the problem-file reference for its keys)")
+                        } else {
+                            message
+                        }
+                    }),
                 };
                 errors.push(KeyError {
                     key: key.clone(),
@@ -331,11 +338,34 @@ fn syntax(text: &str, file: &Path, e: &toml::de::Error) -> ProblemError {
         let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
         (line, column)
     });
+    let mut message = e.message().to_string();
+    // toml says "duplicate key" and points at it: name it, and the rule.
+    if message.trim_end() == "duplicate key"
+        && let Some(key) = e
+            .span()
+            .and_then(|span| text.get(span))
+            .map(|k| k.trim().trim_matches('"'))
+            .filter(|k| !k.is_empty() && k.len() <= 100 && !k.contains('\n'))
+    {
+        let header = text
+            .lines()
+            .nth(line.saturating_sub(1))
+            .is_some_and(|l| l.trim_start().starts_with('['));
+        message = if header {
+            format!(
+                "duplicate key `{key}`: this table header is given twice (merge the two tables)"
+            )
+        } else {
+            format!(
+                "duplicate key `{key}`: a key is given once per table (remove one of the two lines)"
+            )
+        };
+    }
     ProblemError::Syntax {
         file: file.to_path_buf(),
         line,
         column,
-        message: e.message().to_string(),
+        message,
     }
 }
 
@@ -995,7 +1025,12 @@ fn chosen_law<L: ?Sized + Law>(
             (None, Some(default)) => Ok(default),
             (None, None) => Ok(c.record(
                 p.key,
-                format!("is required by law = {:?} ({})", entry.name, p.doc),
+                format!(
+                    "is required by law = {:?} ({}): a value {}",
+                    entry.name,
+                    p.doc,
+                    p.range.describe(p.dimension)
+                ),
             )),
         })
         .collect::<Result<Vec<f64>, _>>()?;
