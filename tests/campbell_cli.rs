@@ -282,3 +282,44 @@ fn axial_and_torsional_modes_meet_the_bits_multiple_only() {
     assert!((first - 33.73).abs() < 0.05, "{first}");
     assert!(of("bending").iter().any(|&(_, k)| k == 1.0), "{speeds:?}");
 }
+
+/// The fourth fuzz campaign's one unbounded run: `campbell` on the collar string with a wall
+/// 1000× stiffer (3.2e12 N/m per metre) never ended: faer's Schur reordering looped on the
+/// badly scaled first-order matrix (M⁻¹K to 1e10 beside the identity). The balanced form ends in
+/// about a second; the test gives it two minutes before it counts as the hang.
+#[test]
+fn a_stiff_wall_does_not_hang_the_eigen_solve() {
+    let text = std::fs::read_to_string("problems/long_collars_rgd_stick.toml")
+        .unwrap()
+        .replacen(
+            "stiffness = \"3.2189e9 N/m\"",
+            "stiffness = \"3.2189e12 N/m\"",
+            1,
+        );
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("stiff_wall.toml");
+    std::fs::write(&file, text).unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+        .arg("campbell")
+        .arg(&file)
+        .args(["--quiet", "--out"])
+        .arg(dir.path().join("out"))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > std::time::Duration::from_secs(120) {
+            child.kill().unwrap();
+            panic!("campbell did not end within 120 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    assert!(status.success(), "{status}");
+    let c = json(&dir.path().join("out/campbell.json"));
+    assert!(!c["modes"].as_array().unwrap().is_empty());
+}

@@ -146,10 +146,18 @@ pub type StateEigen = (Vec<Complex<f64>>, DMatrix<Complex<f64>>);
 pub fn state_eigen(sys: &LinearSystem, omega: f64) -> Result<StateEigen, CampbellError> {
     let n = sys.size();
     let [k, g, d] = &sys.inv_mass;
+    // The state (x, ẋ/w) with w a typical frequency, sqrt(max |(M⁻¹K)_ii|): the similarity
+    // diag(I, I/w) balances the blocks (M⁻¹K reaches 1e10 1/s² beside the identity), and without
+    // it faer's Schur reordering looped without end on a stiff wall (3.2e12 N/m; issue 34).
+    let w = (0..n)
+        .map(|i| k[(i, i)].abs())
+        .fold(0.0, f64::max)
+        .sqrt()
+        .max(1.0);
     let a = Mat::<f64>::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
         (true, true) => 0.0,
-        (true, false) => f64::from(u8::from(j - n == i)),
-        (false, true) => -k[(i - n, j)],
+        (true, false) => w * f64::from(u8::from(j - n == i)),
+        (false, true) => -k[(i - n, j)] / w,
         (false, false) => -(omega * g[(i - n, j - n)] + d[(i - n, j - n)]),
     });
     let evd = a.eigen().map_err(|_| CampbellError::Eigen {
@@ -158,7 +166,14 @@ pub fn state_eigen(sys: &LinearSystem, omega: f64) -> Result<StateEigen, Campbel
     let s = evd.S().column_vector();
     let u = evd.U();
     let values = (0..2 * n).map(|j| s[j]).collect();
-    let vectors = DMatrix::from_fn(2 * n, 2 * n, |i, j| u[(i, j)]);
+    // Back to z = (x, λx): the lower half times w.
+    let vectors = DMatrix::from_fn(
+        2 * n,
+        2 * n,
+        |i, j| {
+            if i < n { u[(i, j)] } else { u[(i, j)] * w }
+        },
+    );
     Ok((values, vectors))
 }
 
