@@ -20,7 +20,15 @@ fn cases() -> u32 {
         .unwrap_or(CASES)
 }
 
-const SHIPPED: [(&str, &str); 23] = [
+const SHIPPED: [(&str, &str); 25] = [
+    (
+        "problems/field/well_a_1km.toml",
+        include_str!("../problems/field/well_a_1km.toml"),
+    ),
+    (
+        "problems/field/well_a_3km.toml",
+        include_str!("../problems/field/well_a_3km.toml"),
+    ),
     (
         "problems/field/well_1km.toml",
         include_str!("../problems/field/well_1km.toml"),

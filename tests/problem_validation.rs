@@ -393,6 +393,16 @@ fn a_key_set_twice_is_refused() {
 }
 
 #[test]
+fn an_integer_beyond_64_bits_is_said_so() {
+    let text = SEED.replace("elements = 105", "elements = 99999999999999999999");
+    let msg = load(&text).expect_err("refused").to_string();
+    assert!(
+        msg.contains("the integer 99999999999999999999 is beyond TOML's 64-bit integers"),
+        "{msg}"
+    );
+}
+
+#[test]
 fn a_missing_table_and_a_laws_missing_parameter_say_what_they_take() {
     let lines: Vec<&str> = SEED.lines().collect();
     let (start, end) = section(&lines, "model.wall");

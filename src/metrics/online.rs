@@ -2,7 +2,9 @@
 //! [`OnlineMetrics`] (a [`Sink`]) once, in time order, and nothing per step is kept but the last
 //! τ of bit rotation (the averaged bit speed looks back τ) and, for the time-weighted standard
 //! deviation of the bit axial velocity (a two-pass formula: the mean first), the window's times
-//! and axial velocities (16 bytes per accepted step: 11 MB for the 704k steps of the 90 s seed).
+//! and axial velocities (16 bytes per accepted step: 11 MB for the 704k steps of the 90 s seed),
+//! up to [`MAX_TWO_PASS_SAMPLES`]; a longer window (a simulated day) gives them up for one-pass
+//! sums shifted by the window's first velocity, so that the memory stays bounded in the duration.
 //!
 //! [`super::compute`] and [`super::batch_means`] feed a recorded series through the same
 //! accumulators, so the streamed and the recorded metrics are one computation: the sums are
@@ -84,9 +86,23 @@ struct Window {
     raw: (f64, f64),
     wall_force_max: f64,
     radial_max: f64,
-    /// Times and bit axial velocities of the window (the run's window only).
+    /// Times and bit axial velocities of the window (the run's window only), while it holds
+    /// at most [`MAX_TWO_PASS_SAMPLES`]; `None` beyond (the one-pass sums then give the deviation).
     velocity: Option<(Vec<f64>, Vec<f64>)>,
+    /// Whether the window computes the velocity's deviation at all (the run's window).
+    keep_velocity: bool,
+    /// One-pass sums of the velocity shifted by its first value s: (s, ∫(u − s) dt,
+    /// ∫(u − s)² dt, the previous sample (t, u − s)), trapezoid rule.
+    shifted: Option<(f64, f64, f64, (f64, f64))>,
+    /// [`MAX_TWO_PASS_SAMPLES`] (smaller in a test of the one-pass sums).
+    two_pass_cap: usize,
 }
+
+/// The most window samples whose axial velocities are kept for the two-pass standard deviation
+/// (2²³: 134 MB); beyond, the one-pass shifted sums (the same trapezoid integrals, equal in exact
+/// arithmetic: ∫(u − ū)² = ∫(u − s)² − (∫(u − s))²/T). Every shipped run stays below it (the
+/// 90 s seed: 704k samples), so its numbers are those of the two-pass formula.
+pub const MAX_TWO_PASS_SAMPLES: usize = 1 << 23;
 
 impl Window {
     fn new(from: f64, until: f64, start: f64, settling: f64, keep_velocity: bool) -> Self {
@@ -108,6 +124,9 @@ impl Window {
             wall_force_max: f64::NEG_INFINITY,
             radial_max: f64::NEG_INFINITY,
             velocity: keep_velocity.then(|| (Vec::new(), Vec::new())),
+            keep_velocity,
+            shifted: None,
+            two_pass_cap: MAX_TWO_PASS_SAMPLES,
         }
     }
 
@@ -189,9 +208,28 @@ impl Window {
         self.raw = (self.raw.0.max(raw), self.raw.1.min(raw));
         self.wall_force_max = self.wall_force_max.max(v[at::WALL_FORCE_MAX]);
         self.radial_max = self.radial_max.max(v[at::MAX_RADIAL_OVER_GAP]);
-        if let Some((ts, us)) = &mut self.velocity {
-            ts.push(t);
-            us.push(v[at::BIT_VELOCITY]);
+        if self.keep_velocity {
+            let u = v[at::BIT_VELOCITY];
+            match &mut self.shifted {
+                None => self.shifted = Some((u, 0.0, 0.0, (t, 0.0))),
+                Some((shift, i1, i2, (t_prev, d_prev))) => {
+                    let (h, d) = (t - *t_prev, u - *shift);
+                    *i1 += 0.5 * h * (*d_prev + d);
+                    *i2 += 0.5 * h * (*d_prev * *d_prev + d * d);
+                    (*t_prev, *d_prev) = (t, d);
+                }
+            }
+            let full = self
+                .velocity
+                .as_ref()
+                .is_some_and(|(ts, _)| ts.len() >= self.two_pass_cap);
+            if full {
+                // Bounded memory: the one-pass sums from here on.
+                self.velocity = None;
+            } else if let Some((ts, us)) = &mut self.velocity {
+                ts.push(t);
+                us.push(u);
+            }
         }
     }
 
@@ -235,9 +273,14 @@ impl Window {
             0.0
         };
         let onsets = last.onsets as f64 - first.onsets as f64;
-        let fluctuation = match &self.velocity {
-            Some((t, u)) => relative_to_feed(super::time_average::std_dev(t, u), feed),
-            None => f64::NAN,
+        let fluctuation = match (&self.velocity, &self.shifted) {
+            (Some((t, u)), _) => relative_to_feed(super::time_average::std_dev(t, u), feed),
+            (None, Some((_, i1, i2, _))) if self.keep_velocity => {
+                let span = last.t - first.t;
+                let variance = i2 / span - (i1 / span) * (i1 / span);
+                relative_to_feed(variance.max(0.0).sqrt(), feed)
+            }
+            _ => f64::NAN,
         };
         let (max_spin, min_spin) = self.spin;
         Ok(Metrics {
@@ -346,6 +389,13 @@ pub struct OnlineMetrics {
 impl OnlineMetrics {
     /// Metrics by `config` for a run expected to end at `expected_end` s (the batches are laid
     /// out from it; NaN: no batches). Refuses an invalid configuration.
+    /// The run window's two-pass cap lowered to `cap` samples (a test of the one-pass sums).
+    #[cfg(test)]
+    pub(crate) fn with_two_pass_cap(mut self, cap: usize) -> Self {
+        self.run.two_pass_cap = cap;
+        self
+    }
+
     pub fn new(config: MetricsConfig, expected_end: f64) -> Result<Self, MetricsError> {
         config.validate()?;
         Ok(OnlineMetrics {

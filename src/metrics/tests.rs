@@ -647,3 +647,31 @@ fn named_values_match_the_serialised_keys_and_keep_infinity() {
     let map = crate::study::metric_map(&m);
     assert_eq!(map["mse_pa"], f64::INFINITY);
 }
+
+/// Beyond the two-pass cap the window keeps no velocities: the one-pass sums, shifted by the
+/// first velocity, give the same deviation (equal in exact arithmetic) on a long uneven series
+/// whose fluctuation is small beside its mean (the case a plain sum of squares would lose).
+#[test]
+fn the_one_pass_deviation_beyond_the_cap_equals_the_two_pass_one() {
+    let t = uneven_grid(4001, 40.0);
+    let mut s = steady(&t);
+    s.bit_velocity = t
+        .iter()
+        .map(|&t| V0 * (1.0 + 1e-3 * (7.0 * t).sin() + 2e-4 * (31.0 * t).cos()))
+        .collect();
+    let two_pass = compute(&s, &config(5.0)).unwrap();
+    let mut online = online::OnlineMetrics::new(config(5.0), f64::NAN)
+        .unwrap()
+        .with_two_pass_cap(100);
+    feed(&s, &mut online);
+    let one_pass = online.metrics().unwrap();
+    assert!(two_pass.axial_velocity_fluctuation > 5e-4);
+    assert_relative_eq!(
+        one_pass.axial_velocity_fluctuation,
+        two_pass.axial_velocity_fluctuation,
+        max_relative = 1e-9
+    );
+    // Everything else is untouched by the cap.
+    assert_eq!(one_pass.mean_rop_m_s, two_pass.mean_rop_m_s);
+    assert_eq!(one_pass.mean_wob_n, two_pass.mean_wob_n);
+}

@@ -361,6 +361,17 @@ fn syntax(text: &str, file: &Path, e: &toml::de::Error) -> ProblemError {
             )
         };
     }
+    // toml reads integers beyond 64 bits as "invalid type: integer `…` as i128".
+    if let Some(digits) = message
+        .strip_prefix("invalid type: integer `")
+        .and_then(|rest| rest.split('`').next())
+        .filter(|_| message.contains(" as i128"))
+    {
+        message = format!(
+            "the integer {digits} is beyond TOML's 64-bit integers (at most {}): write a smaller value, or a float such as 1e20 where a number is meant",
+            i64::MAX
+        );
+    }
     ProblemError::Syntax {
         file: file.to_path_buf(),
         line,
