@@ -211,3 +211,49 @@ fn an_interrupted_simulate_writes_what_it_had_and_leaves_no_temporary_file() {
     assert!(last <= stopped && last > stopped - 1e-3, "{last} {stopped}");
     assert!(out.join("bit_axial.svg").exists());
 }
+
+/// A run killed outright (kill -9) left the earlier run's summary.json ("completed", another
+/// operating point) beside its own half-written time series, and its hidden temporary files: the
+/// next run on the folder removes the temporaries, and a run removes the earlier summary when it
+/// starts, so a killed run leaves none rather than a stale one.
+#[test]
+fn a_killed_simulate_leaves_no_stale_summary_and_the_next_run_clears_its_temporaries() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let run = |duration: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_drillopt"))
+            .args(["simulate", FILE, "--duration", duration, "--quiet", "--out"])
+            .arg(&out)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap()
+    };
+    assert!(run("0.01").wait().unwrap().success());
+    assert_eq!(summary(&out)["status"], "completed");
+    let mut child = run("60");
+    // Running once its time series' temporary file is there.
+    let temporaries = |out: &Path| -> usize {
+        std::fs::read_dir(out).map_or(0, |d| {
+            d.flatten()
+                .filter(|e| e.file_name().to_string_lossy().starts_with(".tmp"))
+                .count()
+        })
+    };
+    let start = std::time::Instant::now();
+    while temporaries(&out) == 0 {
+        assert!(start.elapsed().as_secs() < 60, "the run never started");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        !out.join("summary.json").exists(),
+        "the earlier run's summary is still there"
+    );
+    assert!(temporaries(&out) > 0, "kill -9 leaves the temporary file");
+    assert!(run("0.01").wait().unwrap().success());
+    assert_eq!(temporaries(&out), 0);
+    assert_eq!(summary(&out)["status"], "completed");
+}

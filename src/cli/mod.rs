@@ -217,11 +217,34 @@ pub(crate) fn create_out_dir(dir: &std::path::Path) -> anyhow::Result<OutDirLock
             )
         })?;
     match file.try_lock() {
-        Ok(()) | Err(std::fs::TryLockError::Error(_)) => Ok(OutDirLock { _file: file }),
+        Ok(()) => {
+            remove_stale_temporaries(dir);
+            Ok(OutDirLock { _file: file })
+        }
+        Err(std::fs::TryLockError::Error(_)) => Ok(OutDirLock { _file: file }),
         Err(std::fs::TryLockError::WouldBlock) => anyhow::bail!(
             "output directory {} is in use by another drillopt run (it holds {OUT_LOCK}); wait for it to finish or choose another --out",
             dir.display()
         ),
+    }
+}
+
+/// Remove the hidden temporary files (`.tmpXXXXXX`) that runs killed in mid-write left in `dir`:
+/// under the folder's lock no other drillopt run writes there, so every one is stale. Best
+/// effort (a file that cannot be removed stays).
+fn remove_stale_temporaries(dir: &std::path::Path) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let stale = entry
+            .file_name()
+            .to_str()
+            .is_some_and(|n| n.starts_with(".tmp"))
+            && entry.file_type().is_ok_and(|t| t.is_file());
+        if stale {
+            let _ = std::fs::remove_file(entry.path());
+        }
     }
 }
 

@@ -304,6 +304,17 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         );
     }
     let (out, _out_lock) = super::study::out_dir(&args.out, &problem, "simulate")?;
+    // An earlier run's summary would read as this run's if this one is killed: it goes now, and
+    // this run writes its own at its end (or "not started" when the model cannot be built).
+    match std::fs::remove_file(out.join("summary.json")) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            anyhow::bail!(
+                "{}: cannot replace it ({e})",
+                out.join("summary.json").display()
+            )
+        }
+        _ => {}
+    }
 
     let bar = if args.quiet {
         ProgressBar::hidden()
@@ -460,8 +471,11 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     };
     report::write_json_atomic(&out.join("summary.json"), &summary)?;
     if !series.is_empty() {
-        let s = &series;
         csv.finish()?;
+    }
+    // Plots and the stress envelope need a history: a start that fails leaves one row.
+    if series.len() >= 2 {
+        let s = &series;
         report::plot_bit_axial(s, &op, units, &out.join("bit_axial.svg"))?;
         report::plot_bit_rotation(s, &op, units, &out.join("bit_rotation.svg"))?;
         // Each probe's wall at its own gap: the hole less its section's outer radius (the
@@ -571,16 +585,16 @@ pub(super) fn steady_state_warning(
     }
     Some(format!(
         "warning: steady drilling is unstable here: the linearised equations' dominant eigenvalue \
-         grows at {:.3} 1/s ({:.1} Hz), so a disturbance doubles every {:.3} s and round-off \
-         ({ROUND_OFF:e}) reaches the response's own size after about {:.1} s{}; the run starts on \
+         grows at {:.3} 1/s ({:.1} Hz), so a disturbance doubles every {} s and round-off \
+         ({ROUND_OFF:e}) reaches the response's own size after about {} s{}; the run starts on \
          the steady state, and a window that ends before the growth reads it as the long run \
          (docs/model.md, \"Linear stability of steady drilling\")",
         s.growth_rate_per_s,
         s.frequency_hz,
-        s.growth_time(2.0),
-        grown,
+        crate::units::sig(s.growth_time(2.0), 3),
+        crate::units::sig(grown, 3),
         if grown > duration {
-            format!(", later than this {duration} s run")
+            format!(", later than this {} s run", crate::units::short(duration))
         } else {
             String::new()
         }

@@ -605,7 +605,7 @@ pub(super) fn table_row(p: &PointEvaluation, t: &TableUnits) -> String {
     // A metric a failed point lacks is a dash, not NaN.
     let cell = |x: f64, width: usize, digits: usize| {
         if x.is_finite() {
-            format!("{x:width$.digits$}")
+            format!("{:>width$}", crate::units::fixed(x, digits))
         } else {
             format!("{:>width$}", "-")
         }

@@ -226,8 +226,9 @@ impl Dimension {
             .parse()
             .map_err(|_| UnitError::new(self, text, "does not start with a number"))?;
         let unit = unit.trim();
+        // `-0` is 0 (no negative zero reaches a result: `--v0 -0m/h` wrote "v0_m_s": -0.0).
         if unit.is_empty() {
-            return Ok(value);
+            return Ok(value + 0.0);
         }
         // The exact spelling first; else a unit that matches ignoring case, if only one does
         // ("80 RPM", "5 M/H"), so that no spelling can mean two units.
@@ -244,7 +245,7 @@ impl Dimension {
         };
         exact
             .or_else(folded)
-            .map(|(_, factor)| to_si(value, *factor))
+            .map(|(_, factor)| to_si(value, *factor) + 0.0)
             .ok_or_else(|| UnitError::new(self, text, &self.not_a_unit_of(unit)))
     }
 
@@ -376,6 +377,19 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
     use std::f64::consts::PI;
+
+    #[test]
+    fn minus_zero_reads_as_zero() {
+        for text in ["-0", "-0 m/h", "-0.0rpm"] {
+            let dim = if text.contains("rpm") {
+                Dimension::AngularVelocity
+            } else {
+                Dimension::Velocity
+            };
+            let v = dim.parse(text).unwrap();
+            assert!(v == 0.0 && v.is_sign_positive(), "{text}: {v:?}");
+        }
+    }
 
     /// A decimal sub-unit gives the double nearest the typed decimal (a review found `"10 us"`
     /// read as 9.999999999999999e-6 s, a different model hash from `1e-5` and, through the

@@ -87,9 +87,24 @@ pub fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
 
-/// `x` with at most 4 decimals and no trailing zeros (`30`, `111.1111`, `0.25`), for messages.
+/// `x` with at most 4 decimals and no trailing zeros (`30`, `111.1111`, `0.25`), for messages;
+/// in exponent form beyond 1e9 or below 1e-4 (`1e300` was printed with 301 digits), never a
+/// negative zero.
 pub fn short(x: f64) -> String {
-    let s = format!("{x:.4}");
+    let a = x.abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e9).contains(&a) {
+        return show(x);
+    }
+    let s = format!("{:.4}", x + 0.0);
+    let s = if s
+        .trim_start_matches('-')
+        .trim_matches(['0', '.'])
+        .is_empty()
+    {
+        s.trim_start_matches('-').to_string()
+    } else {
+        s
+    };
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
     } else {
@@ -137,6 +152,12 @@ mod tests {
         assert_eq!(super::short(30.000000000000004), "30");
         assert_eq!(super::short(111.11111), "111.1111");
         assert_eq!(super::short(0.25), "0.25");
+        // No 301-digit numbers and no negative zero (issue 34).
+        assert_eq!(super::short(1e300), "1e300");
+        assert_eq!(super::short(-0.0), "0");
+        assert_eq!(super::short(-0.00001), "-1e-5");
+        assert_eq!(super::short(-0.00004), "-4e-5");
+        assert_eq!(super::short(-4e-305), "-4e-305");
         assert_eq!(super::short(-3.0), "-3");
         assert_eq!(super::show(1e308), "1e308");
         assert_eq!(super::show(-2.5e-300), "-2.5e-300");
