@@ -116,7 +116,7 @@ pub(super) fn parse(text: &str, file: &Path) -> Result<Parsed, ProblemError> {
                     }
                     _ => required(&key).unwrap_or_else(|| {
                         // A whole table left out: `[model.wall]`.
-                        if message.starts_with("missing field") && !key.contains('[') {
+                        if message.starts_with("missing field") && TABLES.contains(&key.as_str()) {
                             format!("is required: the table [{key}] (see the problem-file reference for its keys)")
                         } else {
                             message
@@ -259,6 +259,28 @@ fn insert_key(value: &mut toml::Value, path: &[&str], new: toml::Value) -> bool 
         .is_some()
 }
 
+/// The tables of a problem file (a missing one is said to be a table).
+const TABLES: &[&str] = &[
+    "model",
+    "model.pipe",
+    "model.fluid",
+    "model.borehole",
+    "model.wall",
+    "model.bit",
+    "mesh",
+    "mesh.basis",
+    "operating_point",
+    "simulation",
+    "objective",
+    "constraints",
+    "uncertain",
+    "uncertain.sequential",
+    "optimizer",
+    "optimizer.explore",
+    "expect",
+    "campbell",
+];
+
 /// What a required key without a range in the tables takes, for its "missing" refusal (array
 /// indices read as `[*]`).
 fn required(key: &str) -> Option<String> {
@@ -296,6 +318,9 @@ fn required(key: &str) -> Option<String> {
             "is required: the range [min, max] of Ω the optimum is known to lie in (e.g. [\"100 rpm\", \"140 rpm\"])"
         }
         "expect.reason" => "is required: why the optimum lies in the expected range (a sentence)",
+        "uncertain.sequential.score_half_width" => {
+            "is required (missing): the target half-width of the score's confidence interval, a number > 0 in the score's unit"
+        }
         "mesh.elements" => "is required: the number of beam elements, an integer in [1, 2000]",
         "mesh.basis.bending" | "mesh.basis.torsional" | "mesh.basis.axial" => {
             "is required: the family's modes, an integer count in [1, mesh.elements] or a cutoff frequency such as \"60 Hz\""
