@@ -411,6 +411,23 @@ fn more_probes_than_the_cap_are_refused_with_the_count() {
     .unwrap();
 }
 
+/// A value that overflows its unit's conversion ("1e300 GPa") said "got inf" and nothing else:
+/// the range is given too.
+#[test]
+fn an_overflowing_value_is_refused_with_its_range() {
+    refused(
+        &edit(
+            "youngs_modulus = \"203 GPa\"",
+            "youngs_modulus = \"1e300 GPa\"",
+        ),
+        "model.pipe.youngs_modulus",
+        &[
+            "must be a finite number in [1e9, 1e12] Pa",
+            "\"1e300 GPa\" is beyond the largest double",
+        ],
+    );
+}
+
 /// Two probes at one position wrote two columns of one name and one plot over the other: the
 /// repeat is refused naming both.
 #[test]

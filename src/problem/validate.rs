@@ -574,7 +574,19 @@ impl<'a> Checker<'a> {
         if v.is_finite() {
             v
         } else {
-            self.record(key, format!("must be a finite number, got {v}"))
+            // 1e300 GPa overflows to inf: say the range the key takes, when it has one.
+            let (unit, factor) = shown_in(key, dim);
+            let allowed = super::limits::range_of(key).map_or(String::new(), |r| {
+                format!(" {}", r.describe_in(unit, factor))
+            });
+            let typed = match raw {
+                RawQuantity::Text(t) => format!(" ({t:?} is beyond the largest double)"),
+                RawQuantity::Number(_) => String::new(),
+            };
+            self.record(
+                key,
+                format!("must be a finite number{allowed}, got {v}{typed}"),
+            )
         }
     }
 
