@@ -157,8 +157,8 @@ impl<'m> FreeTop<'m> {
         };
         // Wall friction (force F on the string; the residual holds −F): FRICTION_DOFS = (u, v,
         // w, θx), coupling_stiffness over (v, w), coupling_damping over all four.
-        for (node, k) in sys.contacts.iter().enumerate() {
-            if !(k.active && k.coupled) {
+        for (node, k) in sys.touching_with_tangents() {
+            if !k.coupled {
                 continue;
             }
             for (a, dof_a) in FRICTION_DOFS.iter().enumerate() {

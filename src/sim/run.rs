@@ -126,6 +126,9 @@ pub struct SolverStats {
     /// Residual evaluations and strain-tangent refreshes during the time march.
     pub residual_evaluations: usize,
     pub tangent_refreshes: usize,
+    /// Gatherings of the wall's contact tangent kept apart in the Newton matrix (see
+    /// `Dynamics::jacobian`).
+    pub wall_tangent_refreshes: usize,
     /// Newton matrix factorisations during the time march.
     pub factorizations: usize,
     pub wall_time_s: f64,
@@ -1118,6 +1121,7 @@ pub fn simulate_into<S: Sink>(
     stats.wall_time_s = clock.elapsed().as_secs_f64();
     stats.residual_evaluations = sys.dynamics().residual_evaluations;
     stats.tangent_refreshes = sys.dynamics().tangent_refreshes;
+    stats.wall_tangent_refreshes = sys.dynamics().wall_tangent_refreshes;
     stats.factorizations = nm.factorizations;
     if stats.steps == 0 {
         stats.min_dt = 0.0;
