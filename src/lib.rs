@@ -26,3 +26,6 @@ pub mod verify;
 
 /// Version of drillopt, recorded in every result file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+#[cfg(test)]
+mod file_cycles;

@@ -292,7 +292,7 @@ fn print_check(c: &NumericalCheck, units: UnitSystem) {
     for (key, m) in &c.metrics {
         // In the units of the rest of the terminal (kN, kN·m, MPa, m/h, % or their field units).
         let d = crate::report::MetricDisplay::of_in(key, units);
-        let show = |si: f64| super::verify::significant(d.value(si));
+        let show = |si: f64| crate::units::significant(d.value(si));
         print!("  {key:<22} {:>7} {:>12}", d.unit, show(m.value));
         for r in &refinements {
             print!(

@@ -505,9 +505,9 @@ pub fn print_held_by(
                     } else {
                         "at"
                     },
-                    super::verify::significant(d.value(a.value)),
+                    crate::units::significant(d.value(a.value)),
                     d.unit,
-                    super::verify::significant(d.value(a.limit)),
+                    crate::units::significant(d.value(a.limit)),
                     d.unit,
                     100.0 * a.margin
                 )

@@ -201,16 +201,6 @@ fn verdict(r: &VerifyReport) -> String {
     }
 }
 
-/// Six significant digits, in exponent form outside [1e-3, 1e6).
-pub(super) fn significant(x: f64) -> String {
-    if x != 0.0 && !(1e-3..1e6).contains(&x.abs()) {
-        format!("{x:.5e}")
-    } else {
-        let decimals = (5 - x.abs().log10().floor().max(0.0) as i32).max(0) as usize;
-        format!("{x:.decimals$}")
-    }
-}
-
 /// `undamped_waves`: no stiffness-proportional damping (the header's note on bit_damping_ratio).
 fn print_table(
     r: &VerifyReport,
@@ -266,7 +256,7 @@ fn print_table(
         print!(
             "{key:<22} {:>7} {:>12}",
             d.unit,
-            significant(d.value(v.value))
+            crate::units::significant(d.value(v.value))
         );
         for refinement in refinements {
             let value = match refinement {
@@ -275,7 +265,7 @@ fn print_table(
             };
             print!(
                 " {:>12}",
-                value.map_or("-".to_string(), |x| significant(d.value(x)))
+                value.map_or("-".to_string(), |x| crate::units::significant(d.value(x)))
             );
         }
         println!(
@@ -290,7 +280,7 @@ fn print_table(
             "  {key} sits on its chance constraint's threshold (within its floor {}): judged by \
              where that edge lies: the refinements move its crossing along Ω by {:.3} % of Ω \
              (limit {:.0} %; the slope from the perturbed run), not by the value there",
-            significant(v.floor),
+            crate::units::significant(v.floor),
             100.0 * v.edge_shift.unwrap_or(f64::NAN),
             100.0 * verify::EDGE_TOLERANCE
         );

@@ -5,7 +5,9 @@
 //! dotted key (`model.pipe.outer_radius`) and says what is allowed; every refusal of a file is
 //! reported in one pass (unknown keys, units, ranges), one line each.
 
+mod check;
 mod error;
+pub mod file;
 pub mod keys;
 pub mod limits;
 pub mod schema;
@@ -14,6 +16,7 @@ mod validate;
 mod validate_expect;
 mod validate_explore;
 mod validate_fatigue;
+mod validate_range;
 mod validate_sections;
 mod validate_study;
 mod validate_threshold;

@@ -1,4 +1,6 @@
-//! The problem file as written: serde structs that mirror the TOML, nothing checked but the shape.
+//! The problem file's model tables as written (the whole file is [`super::file::ProblemFile`],
+//! the study's tables [`super::study`]): serde structs that mirror the TOML, nothing checked but
+//! the shape.
 //!
 //! Every table denies unknown keys, so a misspelled key is an error rather than a silent default.
 //! Dimensional values are [`RawQuantity`]: a bare number in SI units or a string with a unit.
@@ -38,26 +40,6 @@ impl<'de> Deserialize<'de> for RawQuantity {
         }
         deserializer.deserialize_any(QuantityVisitor)
     }
-}
-
-/// The whole problem file.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ProblemFile {
-    /// Name used for the results folder; defaults to the file stem.
-    pub name: Option<String>,
-    /// Free text: where the configuration comes from.
-    pub description: Option<String>,
-    pub model: ModelSection,
-    pub mesh: MeshSection,
-    pub operating_point: OperatingPointSection,
-    pub simulation: SimulationSection,
-    pub uncertain: Option<super::study::UncertainSection>,
-    pub objective: Option<super::study::ObjectiveSection>,
-    pub constraints: Option<super::study::ConstraintsSection>,
-    pub optimizer: Option<super::study::OptimizerSection>,
-    pub expect: Option<super::study::ExpectSection>,
-    pub campbell: Option<CampbellSection>,
 }
 
 /// `[campbell]`: the excitation the critical speeds are sought against.

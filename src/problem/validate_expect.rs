@@ -3,9 +3,9 @@
 //! checked against the problem's own constraints and the expected ranges.
 
 use super::ProblemError;
+use super::check::Checker;
 use super::study::{ActiveConstraint, Constraints, Expect, ExpectSection};
-use super::validate::Checker;
-use super::validate_study::{range, set_point_range};
+use super::validate_range::{range, set_point_range};
 use crate::model::SetPoint;
 
 /// The names `[expect] active` accepts besides `chance.<metric>` and the linear labels: the

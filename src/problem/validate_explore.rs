@@ -5,12 +5,12 @@
 //! pass); the section reads as `None` when one was.
 
 use super::Dimension::Time;
+use super::check::{Checker, family_size};
 use super::schema::BasisSection;
 use super::study::{
     CONFIRM, CONFIRM_RANGE, Explore, MARGIN_RANGE, MAX_CONFIRM_RANGE, MAX_CONFIRM_ROUNDS,
     REFINE_RANGE, RawExplore, SEPARATION, SEPARATION_RANGE, Study,
 };
-use super::validate::{Checker, family_size};
 use crate::model::{BasisSpec, FamilySize, Mesh, Simulation};
 use crate::units::short;
 

@@ -7,8 +7,8 @@
 //! fatigue limit at 10⁷ cycles, or the range at 10⁷ cycles on a curve given by its parameters;
 //! 0: no cut-off), and `stress_concentration` (default 1).
 
+use super::check::Checker;
 use super::schema::{FatigueSection, RawQuantity};
-use super::validate::Checker;
 use super::{Dimension, ProblemError};
 use crate::fatigue::{DNV_AIR, SnCurve};
 use crate::units::show;

@@ -12,8 +12,8 @@
 const MIN_WALL_M: f64 = 1e-4;
 
 use super::Dimension;
+use super::check::{Checker, yield_strength};
 use super::schema::{RawQuantity, SectionTable};
-use super::validate::{Checker, yield_strength};
 use crate::model::{Pipe, StringSection, cowper_shear_factor};
 use crate::units::{short, show};
 
@@ -277,14 +277,14 @@ fn section(
             .flatten(),
     };
     let elements = t.elements.and_then(|n| {
-        if (1..=super::validate::MAX_ELEMENTS).contains(&n) {
+        if (1..=super::check::MAX_ELEMENTS).contains(&n) {
             Some(n as usize)
         } else {
             c.record(
                 &key("elements"),
                 format!(
                     "must be a whole number in [1, {}] {of}, got {n}",
-                    super::validate::MAX_ELEMENTS
+                    super::check::MAX_ELEMENTS
                 ),
             );
             None

@@ -3,8 +3,8 @@
 //! value, a string carries a unit of the metric's dimension (`"500 MPa"`, `"20 kN"`, `"1e-4 1/h"`).
 
 use super::ProblemError;
+use super::check::Checker;
 use super::schema::RawQuantity;
-use super::validate::Checker;
 
 /// A threshold on `metric`, in the metric's unit ([`crate::metrics::MetricSpec::unit`]): a bare
 /// number as it is (the metric's own value, SI but for the few keys that name another unit), a

@@ -1,8 +1,8 @@
 //! `[operating_point] top` and its keys: the driller's top (MODEL.md §11.8, [`crate::model::top`]).
 
 use super::ProblemError;
+use super::check::Checker;
 use super::schema::{OperatingPointSection, RawQuantity};
-use super::validate::Checker;
 use crate::model::{
     Autodriller, DEFAULT_TIME_CONSTANT, POWER_RANGE, ParameterSpec, TIME_CONSTANT_RANGE,
     TORQUE_RANGE, TopDrive, WOB_RANGE,

@@ -2,6 +2,7 @@
 
 mod blocks;
 mod eigen;
+mod family;
 mod lanczos;
 mod modes;
 mod operator;
@@ -13,8 +14,9 @@ mod sparse;
 
 pub use blocks::{BlockBasis, BlockWork};
 pub use eigen::{EigenError, generalized_symmetric_eigen};
+pub use family::{BasisCounts, BasisError, Family, Mode, ModeKind};
 pub use lanczos::{lanczos_applies, sparse_generalized_eigen};
-pub use modes::{BasisCounts, BasisError, Family, ModalBasis, Mode, ModeKind};
+pub use modes::ModalBasis;
 pub use operator::Operator;
 pub use pencil::LANCZOS_MIN_BLOCK;
 pub use reduced::{ElementKernel, ReducedModel};

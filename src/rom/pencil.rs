@@ -10,8 +10,8 @@
 //! blocks, bitwise the same modes.
 
 use super::eigen::generalized_symmetric_eigen;
+use super::family::{BasisError, Candidate, Family, ModeKind};
 use super::lanczos::{lanczos_applies, sparse_generalized_eigen, sparse_unit_response};
-use super::modes::{BasisError, Candidate, Family, ModeKind};
 use super::resting::BlockRest;
 use crate::fem::{DOF_PER_NODE, Dof, SymmetricSparse};
 use crate::model::FamilySize;

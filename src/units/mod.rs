@@ -134,6 +134,17 @@ pub fn sig(x: f64, digits: usize) -> String {
     show(rounded)
 }
 
+/// Six significant digits, in exponent form outside [1e-3, 1e6) (`verify`'s and the numerical
+/// check's tables).
+pub fn significant(x: f64) -> String {
+    if x != 0.0 && !(1e-3..1e6).contains(&x.abs()) {
+        format!("{x:.5e}")
+    } else {
+        let decimals = (5 - x.abs().log10().floor().max(0.0) as i32).max(0) as usize;
+        format!("{x:.decimals$}")
+    }
+}
+
 /// `x` as Rust prints it when that is short (`0.005`, `250000`), in exponent form when it is
 /// not (`1e308`, `1e-300`), for echoing a value in a message.
 pub fn show(x: f64) -> String {
