@@ -18,8 +18,8 @@ use crate::model::FamilySize;
 use faer::{Mat, MatRef, Par, Side};
 
 /// Blocks larger than this many DOFs go to sparse Lanczos (when the kept count allows a Krylov
-/// space smaller than the block): the bending blocks of meshes of 400 elements and more.
-/// Below it the dense solve is fast (`cargo bench --bench fem -- modes_`).
+/// space smaller than the block): the bending blocks of meshes of 400 elements and more. Below it
+/// the dense solve is fast (`cargo bench -p drillopt-benches --bench fem -- modes_`).
 pub const LANCZOS_MIN_BLOCK: usize = 800;
 
 /// (K, M) restricted to the free DOFs, with the full mass for the energy shares.
