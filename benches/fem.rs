@@ -1,13 +1,13 @@
 //! Assembly and modal solve of the seed configuration (105 elements, 636 DOF), and the element
 //! kernels of the time-step loop (strain and inertial forces of one element).
 //!
-//! `cargo bench --bench fem`. `-- modes_` benches the basis of a 2000-element mesh (sparse
-//! assembly and Lanczos) and one 799-DOF bending block dense against Lanczos.
-//! The modal solve is benched both as drillopt does it (four decoupled
-//! family blocks) and as one dense generalized eigenproblem on all 628 free DOFs, for comparison.
-//! The element kernels (`cargo bench --bench fem -- element_`) are benched next to the dense path
-//! they replaced: G d, Gᵀ ∂W/∂g, Gᵀ H G and the inertia rows through nalgebra's generic products
-//! on the dense operators, rebuilt here from the public interpolation, Gauss point by point.
+//! `cargo bench -p drillopt-benches --bench fem`. `-- modes_` benches the basis of a 2000-element
+//! mesh (sparse assembly and Lanczos) and one 799-DOF bending block dense against Lanczos. The
+//! modal solve is benched both as drillopt does it (four decoupled family blocks) and as one dense
+//! generalized eigenproblem on all 628 free DOFs, for comparison. The element kernels (`cargo bench
+//! -p drillopt-benches --bench fem -- element_`) are benched next to the dense path they replaced:
+//! G d, Gᵀ ∂W/∂g, Gᵀ H G and the inertia rows through nalgebra's generic products on the dense
+//! operators, rebuilt here from the public interpolation, Gauss point by point.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use drillopt::fem::Dof;
@@ -24,7 +24,7 @@ use std::hint::black_box;
 fn seed() -> Problem {
     Problem::load(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/problems/seed_mc2014.toml"
+        "/../problems/seed_mc2014.toml"
     ))
     .expect("seed problem")
 }

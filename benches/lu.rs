@@ -6,7 +6,7 @@
 //! scratch: no allocation, as the time-step loop requires) and through its allocating
 //! high-level API.
 //!
-//! `cargo bench --bench lu`.
+//! `cargo bench -p drillopt-benches --bench lu`.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drillopt::integrate::DenseLu;

@@ -4,8 +4,8 @@
 //! and a 1 s simulated window; 1 s of the seed string with Detournay's rate law and with the
 //! delayed depth-of-cut law `rgd` (`bit_law/…`).
 //!
-//! `cargo bench --bench sim`. The whole 90 s seed run is timed by `drillopt simulate` itself
-//! (summary.json, `solver.wall_time_s`).
+//! `cargo bench -p drillopt-benches --bench sim`. The whole 90 s seed run is timed by `drillopt
+//! simulate` itself (summary.json, `solver.wall_time_s`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use drillopt::integrate::{Newmark, NewmarkSettings, StepOutcome};
@@ -22,7 +22,7 @@ use std::hint::black_box;
 fn benches(c: &mut Criterion) {
     let p = Problem::load(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/problems/seed_mc2014.toml"
+        "/../problems/seed_mc2014.toml"
     ))
     .expect("seed problem");
     let op = p.operating_point;

@@ -3,9 +3,9 @@
 //! 1 km collar string (`problems/long_collars.toml`, a field problem, lengthened to 1000 m, 300
 //! elements), both at μ = 0.3 with the Coulomb friction on the slip.
 //!
-//! `cargo bench --bench start`. Before the friction continuation (revision 8) neither start
-//! converged at μ = 0.3 ("did not converge in 300 Newton iterations"), so there is no "before"
-//! time to compare: the before figure is a failure.
+//! `cargo bench -p drillopt-benches --bench start`. Before the friction continuation (revision 8)
+//! neither start converged at μ = 0.3 ("did not converge in 300 Newton iterations"), so there is no
+//! "before" time to compare: the before figure is a failure.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use drillopt::problem::Problem;

@@ -4,7 +4,7 @@
 //! drillstring: axial, torsional, bending in y, bending in z) and each block is solved on its own.
 //! A block of at most [`LANCZOS_MIN_BLOCK`] DOFs is solved densely (all its eigenpairs, faer's
 //! self-adjoint solver): this is every block of the shipped problems (the seed's largest is 209),
-//! whose bases are pinned bitwise by `tests/cache_key.rs`. A larger block is solved by sparse
+//! whose bases are pinned bitwise by `tests/study/cache_key.rs`. A larger block is solved by sparse
 //! shift-invert Lanczos for the kept modes only ([`super::lanczos`]), so a long mesh needs neither
 //! dense matrices nor all its eigenpairs. Both pencils give the same blocks and, for the dense
 //! blocks, bitwise the same modes.
@@ -18,8 +18,8 @@ use crate::model::FamilySize;
 use faer::{Mat, MatRef, Par, Side};
 
 /// Blocks larger than this many DOFs go to sparse Lanczos (when the kept count allows a Krylov
-/// space smaller than the block): the bending blocks of meshes of 400 elements and more.
-/// Below it the dense solve is fast (`cargo bench --bench fem -- modes_`).
+/// space smaller than the block): the bending blocks of meshes of 400 elements and more. Below it
+/// the dense solve is fast (`cargo bench -p drillopt-benches --bench fem -- modes_`).
 pub const LANCZOS_MIN_BLOCK: usize = 800;
 
 /// (K, M) restricted to the free DOFs, with the full mass for the energy shares.

@@ -19,8 +19,8 @@
 //! basis lifted off after 6 s (21 impacts/s over 40 s). The derivative of the resting shape with
 //! respect to a uniform compression ([`BlockRest::compression_sensitivity`], through the geometric
 //! stiffness [`crate::fem::geometric_stiffness`]) is the second Ritz vector of each plane; with
-//! both, the pre-loaded contact set is the finite-element one (`tests/resting_shape.rs`). Both
-//! vectors are combined by a Rayleigh–Ritz step so that the basis stays M- and K-orthogonal.
+//! both, the pre-loaded contact set is the finite-element one (`tests/model/resting_shape.rs`).
+//! Both vectors are combined by a Rayleigh–Ritz step so that the basis stays M- and K-orthogonal.
 //!
 //! Per bending block, x solves the plane's static problem
 //!   K x − b − Σᵢ F(|xᵢ| − gap) sign(xᵢ) eᵢ = 0,

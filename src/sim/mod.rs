@@ -54,7 +54,7 @@ pub use stability::{NEUTRAL, SteadyStability, steady_stability};
 /// mean_top_torque_nm and mean_top_force_n. Gyroscopic sign: the nonlinear inertia follows
 /// from 2ρI(θ̇x − θy θ̇z)², the spin of the tilted section (MODEL.md §3), not the paper's
 /// (θ̇x + θy θ̇z)²: forward whirl stiffens with Ω (seed metrics move < 0.2 % over 90 s).
-/// The tiny string's golden run (tests/cache_key.rs) moved by 2.3 % in SSI: μ = 1e-5 friction
+/// The tiny string's golden run (tests/study/cache_key.rs) moved by 2.3 % in SSI: μ = 1e-5 friction
 /// on the slip instead of the torque, and the start by continuation (chaotic stick-slip).
 /// The annulus mud's confined added mass ρ_a π R_ext² (R_bh² + R_ext²)/(R_bh² − R_ext²) on the
 /// lateral inertia whenever `annulus_density` is set (89 kg/m on the seed with 1.2 sg mud).

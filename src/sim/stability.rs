@@ -16,7 +16,7 @@
 //! which nothing holds) is no growth and is left out.
 //!
 //! Not for a depth-of-cut bit (`law = "rgd"`): its blades' delay makes the linearisation a delay
-//! equation, whose spectrum `tests/bit_rgd/delay.rs` computes apart.
+//! equation, whose spectrum `tests/model/bit_rgd/delay.rs` computes apart.
 
 use super::SimulationError;
 use super::run::Driven;

@@ -7,7 +7,7 @@
 //!   force of the string it stands for, its tributary length ℓᵢ = (hᵢ₋₁ + hᵢ)/2 (h/2 at the two
 //!   end nodes of a uniform mesh, h elsewhere): F_node = ℓᵢ F_law(δ, δ̇). Refining the mesh then
 //!   leaves the wall as stiff as it was: a string lying along the wall under its weight per
-//!   length w sinks δ = w/k′ whatever the mesh (`tests/wall_per_length.rs`).
+//!   length w sinks δ = w/k′ whatever the mesh (`tests/model/wall_per_length.rs`).
 //! - [`WallStiffnessPer::Node`] (the paper's reading, Cunha Jr, Soize & Sampaio 2014, Table 1):
 //!   every node of the mesh is a spring of the law's stiffness, F_node = F_law(δ, δ̇). A mesh
 //!   twice as fine is a wall twice as stiff per metre, and the string sinks half as deep.
