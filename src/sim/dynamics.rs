@@ -527,27 +527,29 @@ impl<'m> Dynamics<'m> {
         })
     }
 
-    /// out += the wall's tangent at the last residual's contacts for the coefficients `c`:
-    /// −Σₙ Pₙ (c_q ∂Fₙ/∂(v, w) + c_v ∂Fₙ/∂(v̇, ẇ)) Pₙᵀ over the touching nodes, Pₙ the rows of Φ
+    /// out += the wall's tangent at the contacts in `touching` ([`Self::collect_touching`]) for
+    /// the coefficients c_q, c_v: −Σₙ Pₙ (c_q ∂Fₙ/∂(v, w) + c_v ∂Fₙ/∂(v̇, ẇ)) Pₙᵀ over the touching
+    /// nodes, Pₙ the rows of Φ
     /// for the node's lateral DOFs, gathered and added in one pass over the matrix (see
     /// [`ContactTangent`]), and the friction's coupling of u and θx with the lateral DOFs (and
     /// of u and θx with each other), one rank-one term per non-zero entry.
-    fn add_wall_tangent(&mut self, c: JacobianCoefficients, out: &mut DMatrix<f64>) {
-        let phi = &self.model.sparse;
-        let mut touching = std::mem::take(&mut self.touching);
-        touching.clear();
-        touching.extend(self.touching_with_tangents());
-        self.contact_tangent.clear();
-        for (node, k) in &touching {
+    fn add_wall_tangent(&mut self, cq: f64, cv: f64, out: &mut DMatrix<f64>) {
+        let (touching, gathered, phi) = (
+            &self.touching,
+            &mut self.contact_tangent,
+            &self.model.sparse,
+        );
+        gathered.clear();
+        for (node, k) in touching {
             let w = std::array::from_fn::<_, 2, _>(|a_| {
                 std::array::from_fn::<_, 2, _>(|b| {
-                    -(c.cq * k.stiffness[a_][b] + c.cv * k.damping[a_][b])
+                    -(cq * k.stiffness[a_][b] + cv * k.damping[a_][b])
                 })
             });
-            self.contact_tangent.push(phi, *node, w);
+            gathered.push(phi, *node, w);
         }
-        self.contact_tangent.add_to(out);
-        for &(node, ref k) in &touching {
+        gathered.add_to(out);
+        for &(node, ref k) in touching {
             if !k.coupled {
                 continue;
             }
@@ -557,13 +559,20 @@ impl<'m> Dynamics<'m> {
                         1 | 2 => k.coupling_stiffness[a][b - 1],
                         _ => 0.0,
                     };
-                    let w = -(c.cq * stiffness + c.cv * k.coupling_damping[a][b]);
+                    let w = -(cq * stiffness + cv * k.coupling_damping[a][b]);
                     if w != 0.0 {
                         phi.add_dof_outer(w, row.at(node), col.at(node), out);
                     }
                 }
             }
         }
+    }
+
+    /// The touching nodes of the last residual with their tangents, into `touching`.
+    fn collect_touching(&mut self) {
+        let mut touching = std::mem::take(&mut self.touching);
+        touching.clear();
+        touching.extend(self.touching_with_tangents());
         self.touching = touching;
     }
 
@@ -585,38 +594,14 @@ impl<'m> Dynamics<'m> {
         self.wall_tangent_refreshes += 1;
         self.wall_tangent_at = Some(self.residual_signature);
         self.wall_tangent_uses = 0;
-        let phi = &self.model.sparse;
-        let mut touching = std::mem::take(&mut self.touching);
-        touching.clear();
-        touching.extend(self.touching_with_tangents());
-        for (part, tangent) in self.wall_tangent.iter_mut().enumerate() {
+        self.collect_touching();
+        // The stiffness part (c_q = 1, c_v = 0), then the damping part (c_q = 0, c_v = 1).
+        for (part, (cq, cv)) in [(1.0, 0.0), (0.0, 1.0)].into_iter().enumerate() {
+            let mut tangent = std::mem::replace(&mut self.wall_tangent[part], DMatrix::zeros(0, 0));
             tangent.fill(0.0);
-            self.contact_tangent.clear();
-            for (node, k) in &touching {
-                let d = if part == 0 { k.stiffness } else { k.damping };
-                let w = d.map(|row| row.map(|x| -x));
-                self.contact_tangent.push(phi, *node, w);
-            }
-            self.contact_tangent.add_to(tangent);
-            for &(node, ref k) in &touching {
-                if !k.coupled {
-                    continue;
-                }
-                for (a, row) in FRICTION_DOFS.iter().enumerate() {
-                    for (b, col) in FRICTION_DOFS.iter().enumerate() {
-                        let w = match (part, b) {
-                            (0, 1 | 2) => -k.coupling_stiffness[a][b - 1],
-                            (0, _) => 0.0,
-                            _ => -k.coupling_damping[a][b],
-                        };
-                        if w != 0.0 {
-                            phi.add_dof_outer(w, row.at(node), col.at(node), tangent);
-                        }
-                    }
-                }
-            }
+            self.add_wall_tangent(cq, cv, &mut tangent);
+            self.wall_tangent[part] = tangent;
         }
-        self.touching = touching;
     }
 
     /// What the time history records at a state.
@@ -861,7 +846,8 @@ impl ImplicitSystem for Dynamics<'_> {
         m.mass.add_to(c.ca, out);
         let phi = &m.sparse;
         if !kept {
-            self.add_wall_tangent(c, out);
+            self.collect_touching();
+            self.add_wall_tangent(c.cq, c.cv, out);
         }
         // Bit: −∂(F, T)/∂(u̇, θ̇) at the bit node.
         let bit_node = m.elements();
