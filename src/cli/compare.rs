@@ -111,25 +111,27 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
             );
             // The extremes per plot interval only: memory bounded in the duration.
             let duration = problem.simulation.duration;
-            sim::ModelKind::Reduced.build(&problem).map(|model| {
-                let kept = sim::PlotHistory::new(
-                    &problem.simulation.probes,
-                    duration,
-                    report::PLOT_BUCKETS,
-                    None,
-                );
-                let (kept, _) = sim::run_model_until(
-                    &problem,
-                    &model,
-                    *op,
-                    duration,
-                    kept,
-                    |_| {},
-                    sim::StopFlag::default(),
-                )
-                .split();
-                (label, kept.into_series())
-            })
+            sim::ModelKind::Reduced
+                .build(&problem.model, &problem.mesh)
+                .map(|model| {
+                    let kept = sim::PlotHistory::new(
+                        &problem.simulation.probes,
+                        duration,
+                        report::PLOT_BUCKETS,
+                        None,
+                    );
+                    let (kept, _) = sim::run_model_until(
+                        &problem.simulation,
+                        &model,
+                        *op,
+                        duration,
+                        kept,
+                        |_| {},
+                        sim::StopFlag::default(),
+                    )
+                    .split();
+                    (label, kept.into_series())
+                })
         })
         .collect::<Result<_, _>>()
         .context("modal analysis")?;

@@ -338,7 +338,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         sim::ModelKind::Reduced
     };
     let model = kind
-        .build(&problem)
+        .build(&problem.model, &problem.mesh)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))
         .and_then(|model| {
             super::check_basis(&args.problem, &problem, &model.basis.modes)?;
@@ -362,8 +362,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         }
     };
     let settling = problem.simulation.settling_for(duration);
-    let config = MetricsConfig::new(op.omega, op.v0, problem.model.borehole_radius, settling)
-        .with_top(problem.model.top);
+    let config = MetricsConfig::for_run(&problem.model, op, settling);
     // Every accepted step goes to the metrics; the written history (streamed to disk) is sampled
     // at `interval`, and the plots keep its extremes per plot interval (bounded memory).
     let probes = &problem.simulation.probes;
@@ -382,7 +381,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     // written as below (a second Ctrl-C ends the process at once).
     let stop = super::interrupt::install();
     let output = sim::run_model_until(
-        &problem,
+        &problem.simulation,
         &model,
         op,
         duration,
@@ -408,7 +407,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         sim::ModelKind::Reduced => &model,
         sim::ModelKind::Unreduced => {
             reduced = sim::ModelKind::Reduced
-                .build(&problem)
+                .build(&problem.model, &problem.mesh)
                 .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
             &reduced
         }
@@ -420,29 +419,29 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     );
     bar.finish_and_clear();
 
-    let (metrics, mut metrics_error) = match online.metrics() {
-        Ok(m) => (
-            Some(m.with_stresses(&output.envelope, problem.model.pipe.yield_strength)),
-            None,
-        ),
-        Err(e) => (None, Some(e.to_string())),
-    };
     // Cheap beside the run (one more steady state and the eigenvalues of a matrix of twice the
     // basis' size); the model the run used.
     let steady_state = sim::steady_stability(&model, op, sim::Effects::ALL)
         .ok()
         .flatten();
-    let metrics = metrics.map(|x| {
-        x.with_drilled_bit_damping_ratio(&problem.model, op)
-            .with_steady_state(steady_state)
-    });
-    let metrics = match margin {
-        Ok(m) => metrics.map(|x| x.with_critical_speed_margin(m)),
-        Err(e) => {
-            metrics_error.get_or_insert(format!("critical_speed_margin: {e}"));
-            metrics
-        }
+    let (critical_speed_margin, margin_error) = match margin {
+        Ok(m) => (m, None),
+        Err(e) => (f64::NAN, Some(format!("critical_speed_margin: {e}"))),
     };
+    let terms = metrics::ModelTerms {
+        critical_speed_margin,
+        steady_state,
+    };
+    let (metrics, mut metrics_error) = match online.metrics() {
+        Ok(m) => (
+            Some(m.completed(&output.envelope, &problem.model, op, Some(terms))),
+            None,
+        ),
+        Err(e) => (None, Some(e.to_string())),
+    };
+    if let Some(e) = margin_error {
+        metrics_error.get_or_insert(e);
+    }
     // A window too short to batch keeps its metrics and goes without intervals.
     let confidence_95 = online.batch_intervals();
     let summary = SummaryJson {

@@ -94,6 +94,19 @@ impl MetricsConfig {
         }
     }
 
+    /// The configuration of a run of `string` at `op` whose analysis window starts `settling` s
+    /// after its first sample (the problem's [`crate::model::Simulation::settling_for`] its
+    /// duration): Ω and V0 of `op`, the string's borehole radius and top law, the default stick
+    /// threshold and speed average. Every command and study reads a run's metrics through it
+    /// ([`of_run`], or `OnlineMetrics` for a streamed run).
+    pub fn for_run(
+        string: &crate::model::Drillstring,
+        op: crate::model::OperatingPoint,
+        settling: f64,
+    ) -> Self {
+        Self::new(op.omega, op.v0, string.borehole_radius, settling).with_top(string.top)
+    }
+
     /// This configuration for a run under the top law `top` (an autodriller's power limit read
     /// as the torque limit it sets at this configuration's Ω).
     pub fn with_top(self, top: crate::model::TopDrive) -> Self {
@@ -461,14 +474,55 @@ impl Metrics {
     }
 }
 
-/// The metrics of a run: those of its time series ([`compute`]) with the stress metrics of its
-/// envelope, against the pipe's yield strength if known.
+/// What the model, not the time march, adds to a run's metrics: computed apart from the run
+/// (a Campbell search, the steady state's linear stability), each caller as it best can (a
+/// study keeps a table of critical speeds per sample; `simulate` reports a failed search).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModelTerms {
+    /// `critical_speed_margin` (NaN: unknown, e.g. a string without a resting state).
+    pub critical_speed_margin: f64,
+    /// The steady state's linear stability, when computed (`steady_growth_rate_per_s`: NaN
+    /// otherwise).
+    pub steady_state: Option<crate::sim::SteadyStability>,
+}
+
+impl Metrics {
+    /// The statistics of a run's time series (`self`) completed into its metrics: the stress
+    /// metrics of its `envelope` against the yield strength of `string`'s pipe, and with
+    /// `model` the model's terms and the bit's damping ratio at the feed it drilled (without:
+    /// they stay NaN). The one completion of [`of_run`] and of a streamed run's
+    /// `OnlineMetrics::metrics`.
+    pub fn completed(
+        self,
+        envelope: &crate::sim::StressEnvelope,
+        string: &crate::model::Drillstring,
+        op: crate::model::OperatingPoint,
+        model: Option<ModelTerms>,
+    ) -> Self {
+        let m = self.with_stresses(envelope, string.pipe.yield_strength);
+        match model {
+            Some(t) => m
+                .with_critical_speed_margin(t.critical_speed_margin)
+                .with_drilled_bit_damping_ratio(string, op)
+                .with_steady_state(t.steady_state),
+            None => m,
+        }
+    }
+}
+
+/// The metrics of a finished run of `string` at `op` whose window starts after `settling` s:
+/// its time series' statistics ([`compute`] with [`MetricsConfig::for_run`]) completed with
+/// its stress envelope and, given, the model's terms ([`Metrics::completed`]). Errors: those of
+/// [`compute`].
 pub fn of_run(
     run: &crate::sim::RunOutput,
-    config: &MetricsConfig,
-    yield_strength: Option<f64>,
+    string: &crate::model::Drillstring,
+    op: crate::model::OperatingPoint,
+    settling: f64,
+    model: Option<ModelTerms>,
 ) -> Result<Metrics, MetricsError> {
-    Ok(compute(&run.series, config)?.with_stresses(&run.envelope, yield_strength))
+    let config = MetricsConfig::for_run(string, op, settling);
+    Ok(compute(&run.series, &config)?.completed(&run.envelope, string, op, model))
 }
 
 /// Compute the metrics of `series` (see [`Metrics`] for the definitions). The stress metrics

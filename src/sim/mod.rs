@@ -26,8 +26,8 @@ pub use rock_surface::{Cut, NODES_PER_REVOLUTION, RockSurface};
 pub use run::{
     IMPACT_SEPARATION, IMPACT_SPEED, InitialState, ModelKind, RunOutput, RunSettings,
     STEPS_PER_PERIOD, SimulationError, SolverStats, StopFlag, check_against_soft_string,
-    preloaded_equilibrium, resolving_step, run_model, run_model_until, run_problem, simulate,
-    simulate_into, static_equilibrium,
+    preloaded_equilibrium, resolving_step, run_model_until, simulate, simulate_into,
+    static_equilibrium,
 };
 pub use sampler::{SampleInterval, Sampler};
 pub use series::{CHANNELS, Channel, Frame, Row, Sink, TimeSeries, at};

@@ -1181,59 +1181,27 @@ pub enum ModelKind {
 }
 
 impl ModelKind {
-    /// The model of `problem` of this kind.
+    /// The model of this kind of `string` on `mesh` (a problem's `[model]` and `[mesh]`).
+    /// Errors: those of the basis ([`ReducedModel::new`], [`ReducedModel::unreduced`]).
     pub fn build(
         self,
-        problem: &crate::problem::Problem,
+        string: &crate::model::Drillstring,
+        mesh: &crate::model::Mesh,
     ) -> Result<ReducedModel, crate::rom::BasisError> {
         match self {
-            ModelKind::Reduced => {
-                ReducedModel::new(&problem.model, problem.mesh.elements, &problem.mesh.basis)
-            }
-            ModelKind::Unreduced => ReducedModel::unreduced(&problem.model, problem.mesh.elements),
+            ModelKind::Reduced => ReducedModel::new(string, mesh.elements, &mesh.basis),
+            ModelKind::Unreduced => ReducedModel::unreduced(string, mesh.elements),
         }
     }
 }
 
-/// Build the model of a problem (reduced or not) and run it at `op` for `duration` seconds (all effects,
-/// from the problem's start), with the problem's nominal step and probes, and the stress envelope
-/// from the analysis window's start (the settling time, at most half the run).
-pub fn run_problem(
-    problem: &crate::problem::Problem,
-    kind: ModelKind,
-    op: OperatingPoint,
-    duration: f64,
-    progress: impl FnMut(f64),
-) -> Result<RunOutput, crate::rom::BasisError> {
-    let model = kind.build(problem)?;
-    Ok(run_model(problem, &model, op, duration, progress))
-}
-
-/// [`run_problem`] on a model already built from `problem`.
-pub fn run_model(
-    problem: &crate::problem::Problem,
-    model: &ReducedModel,
-    op: OperatingPoint,
-    duration: f64,
-    progress: impl FnMut(f64),
-) -> RunOutput {
-    let series = TimeSeries::with_probes(&problem.simulation.probes, 0);
-    run_model_until(
-        problem,
-        model,
-        op,
-        duration,
-        series,
-        progress,
-        StopFlag::default(),
-    )
-}
-
-/// [`run_model`] sending each accepted step to `sink` (see [`simulate_into`]), ending early with
-/// [`SimulationError::Interrupted`] and what was computed once `stop` is raised (never, with
-/// `StopFlag::default()`).
+/// Run `model` at `op` for `duration` seconds with every effect, as `simulation` (a problem's
+/// `[simulation]`) says: its nominal step, probes and start, and the stress envelope from the
+/// analysis window's start ([`crate::model::Simulation::settling_for`]). Each accepted step
+/// goes to `sink` (see [`simulate_into`]); once `stop` is raised the run ends early with
+/// [`SimulationError::Interrupted`] and what was computed (never, with `StopFlag::default()`).
 pub fn run_model_until<S: Sink>(
-    problem: &crate::problem::Problem,
+    simulation: &crate::model::Simulation,
     model: &ReducedModel,
     op: OperatingPoint,
     duration: f64,
@@ -1241,16 +1209,16 @@ pub fn run_model_until<S: Sink>(
     progress: impl FnMut(f64),
     stop: StopFlag,
 ) -> RunOutput<S> {
-    let mut settings = RunSettings::new(duration, problem.simulation.time_step);
-    settings.probes = problem.simulation.probes.clone();
-    settings.envelope_from = problem.simulation.settling_for(duration);
+    let mut settings = RunSettings::new(duration, simulation.time_step);
+    settings.probes = simulation.probes.clone();
+    settings.envelope_from = simulation.settling_for(duration);
     settings.stop = stop;
     simulate_into(
         model,
         op,
         Effects::ALL,
         &settings,
-        InitialState::from(problem.simulation.start),
+        InitialState::from(simulation.start),
         sink,
         progress,
     )

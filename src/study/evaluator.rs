@@ -13,7 +13,7 @@ use super::score::{PointEvaluation, SampleOutcome, SampleResult, metric_map, sco
 use super::sequential::evaluate_in_rounds;
 use crate::cache::{CacheKey, EvalCache, EvalInfo, Outcome, stable_hash};
 use crate::campbell::{self, LinearSystem, Linearisation, MarginTable};
-use crate::metrics::{self, MetricsConfig};
+use crate::metrics;
 use crate::model::{Drillstring, Enters, OperatingPoint};
 use crate::problem::Problem;
 use crate::rom::{BasisError, ReducedModel};
@@ -407,15 +407,13 @@ impl<'a> RobustEvaluator<'a> {
             return SampleOutcome::Failed(e.to_string());
         }
         let sim = &self.problem.simulation;
+        let terms = metrics::ModelTerms {
+            critical_speed_margin: self.critical_speed_margin(index, op.omega),
+            steady_state: self.steady_state(model, op),
+        };
         let settling = sim.settling_for(sim.duration);
-        let config = MetricsConfig::new(op.omega, op.v0, model.string.borehole_radius, settling)
-            .with_top(model.string.top);
-        match metrics::of_run(&out, &config, model.string.pipe.yield_strength) {
-            Ok(m) => SampleOutcome::Metrics(metric_map(
-                &m.with_critical_speed_margin(self.critical_speed_margin(index, op.omega))
-                    .with_drilled_bit_damping_ratio(&model.string, op)
-                    .with_steady_state(self.steady_state(model, op)),
-            )),
+        match metrics::of_run(&out, &model.string, op, settling, Some(terms)) {
+            Ok(m) => SampleOutcome::Metrics(metric_map(&m)),
             Err(e) => SampleOutcome::Failed(format!("metrics: {e}")),
         }
     }

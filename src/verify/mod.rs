@@ -36,7 +36,7 @@
 //! [`EDGE_TOLERANCE`] of Ω. It applies only where the ordinary test fails and the perturbed run
 //! gives a finite, non-zero slope; otherwise the ordinary verdict stands.
 
-use crate::metrics::{self, Metrics, MetricsConfig, Source};
+use crate::metrics::{self, Metrics, Source};
 use crate::model::{BasisSpec, OperatingPoint};
 use crate::problem::Problem;
 use crate::rom::{BasisCounts, BasisError, ReducedModel};
@@ -561,37 +561,26 @@ fn run_variant(
             source,
         });
     }
-    let config = MetricsConfig::new(
-        op.omega,
-        op.v0,
-        problem.model.borehole_radius,
-        settings.settling,
-    )
-    .with_top(problem.model.top);
-    let mut metrics =
-        metrics::of_run(&out, &config, problem.model.pipe.yield_strength).map_err(|source| {
+    // As `simulate` and the studies compute them; a string without a resting state has no
+    // margin (NaN: not converged).
+    let terms = model_metrics.then(|| metrics::ModelTerms {
+        critical_speed_margin: crate::campbell::critical_speed_margin(
+            &model,
+            problem.campbell.excitation_multiple,
+            op.omega,
+        )
+        .unwrap_or(f64::NAN),
+        steady_state: crate::sim::steady_stability(&model, op, Effects::ALL)
+            .ok()
+            .flatten(),
+    });
+    let metrics =
+        metrics::of_run(&out, &problem.model, op, settings.settling, terms).map_err(|source| {
             VerifyError::Metrics {
                 run: v.name,
                 source,
             }
         })?;
-    if model_metrics {
-        // As `simulate` and the studies compute them; a string without a resting state has no
-        // margin (NaN: not converged).
-        let margin = crate::campbell::critical_speed_margin(
-            &model,
-            problem.campbell.excitation_multiple,
-            op.omega,
-        );
-        metrics = metrics
-            .with_critical_speed_margin(margin.unwrap_or(f64::NAN))
-            .with_drilled_bit_damping_ratio(&problem.model, op)
-            .with_steady_state(
-                crate::sim::steady_stability(&model, op, Effects::ALL)
-                    .ok()
-                    .flatten(),
-            );
-    }
     Ok((
         VerifyRun {
             name: v.name,

@@ -284,11 +284,11 @@ fn an_autodriller_at_its_wob_limit_drills_at_the_rop_the_rock_allows() {
     // torque ½εa² · 2πV/√(Ω² + ω_r²) (+ the flats' part, which does not depend on Ω) weakens
     // with Ω at the rate ½εa² · 2πV Ω/(Ω² + ω_r²)^(3/2), over the pipe's torsional impedance
     // J √(Gρ) (St Venant torsion, κ_t = 1).
-    let config =
-        drillopt::metrics::MetricsConfig::new(op.omega, op.v0, 0.07, 0.2).with_top(m.string.top);
-    let metrics = drillopt::metrics::of_run(&out, &config, None)
-        .unwrap()
-        .with_drilled_bit_damping_ratio(&m.string, op);
+    let terms = drillopt::metrics::ModelTerms {
+        critical_speed_margin: f64::NAN,
+        steady_state: None,
+    };
+    let metrics = drillopt::metrics::of_run(&out, &m.string, op, 0.2, Some(terms)).unwrap();
     let ratio_at = |v: f64| {
         use raw::*;
         let w = omega();

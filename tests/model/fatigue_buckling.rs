@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use drillopt::metrics::{self, MetricsConfig};
+use drillopt::metrics;
 use drillopt::model::OperatingPoint;
 use drillopt::problem::Problem;
 use drillopt::rom::ReducedModel;
@@ -46,8 +46,7 @@ fn run(p: &Problem, duration: f64) -> drillopt::metrics::Metrics {
         |_| {},
     );
     assert!(out.error.is_none(), "{:?}", out.error);
-    let config = MetricsConfig::new(op.omega, op.v0, p.model.borehole_radius, 0.0);
-    metrics::of_run(&out, &config, p.model.pipe.yield_strength).unwrap()
+    metrics::of_run(&out, &p.model, op, 0.0, None).unwrap()
 }
 
 /// Dawson & Paslay's sinusoidal load and Chen, Lin & Cheatham's helical load of the seed pipe from

@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use drillopt::metrics::{self, MetricsConfig};
+use drillopt::metrics;
 use drillopt::model::OperatingPoint;
 use drillopt::model::bit::xi;
 use drillopt::problem::Problem;
@@ -74,8 +74,7 @@ fn steady_drilling_stresses_match_the_closed_form_along_the_whole_string() {
         assert!((env.max_torque_nm[k] / tob - 1.0).abs() < 1e-4);
     }
     // The metrics, with the S-135 grade's 135 ksi = 930.8 MPa.
-    let config = MetricsConfig::new(op.omega, op.v0, p.model.borehole_radius, 0.0);
-    let m = metrics::of_run(&out, &config, p.model.pipe.yield_strength).unwrap();
+    let m = metrics::of_run(&out, &p.model, op, 0.0, None).unwrap();
     assert!((m.max_von_mises_pa / von_mises - 1.0).abs() < 1e-4);
     assert!(
         (m.von_mises_safety_factor - 135.0 * 6.894757293168e6 / m.max_von_mises_pa).abs() < 1e-9
