@@ -89,7 +89,7 @@ fn multiple(args: &CampbellArgs, problem: &Problem) -> anyhow::Result<f64> {
     let Some(text) = &args.multiple else {
         return Ok(problem.campbell.excitation_multiple);
     };
-    let range = crate::problem::limits::range_of("campbell.excitation_multiple")
+    let range = crate::problem::keys::range_of("campbell.excitation_multiple")
         .expect("the key has a range");
     let k = Dimension::Dimensionless
         .parse(text)

@@ -6,6 +6,7 @@ mod campbell;
 mod compare;
 pub use compare::parse_point;
 mod interrupt;
+mod keys;
 mod map;
 mod modes;
 mod simulate;
@@ -69,6 +70,9 @@ pub enum Command {
     /// Solution verification at one operating point: are the decision metrics converged in the
     /// basis, the mesh, the integrator tolerances and the window? Exit status 1 when not.
     Verify(verify::VerifyArgs),
+    /// The problem-file keys: unit, admissible range, default and meaning of every scalar key
+    /// and law parameter (Markdown; docs/keys.md is this output).
+    Keys(keys::KeysArgs),
 }
 
 /// A basis error as the user should read it: file, key, what went wrong. A numerical failure of
@@ -287,6 +291,7 @@ pub fn run(cli: Cli) -> anyhow::Result<Outcome> {
         Command::Map(args) => done(map::run(&args, units)),
         Command::Batch(args) => done(batch::run(&args, units)),
         Command::Verify(args) => verify::run(&args, units),
+        Command::Keys(args) => done(keys::run(&args)),
     }
 }
 

@@ -18,22 +18,51 @@ use std::path::{Path, PathBuf};
 pub struct PointArgs {
     // `allow_hyphen_values`: a negative value such as `-1m/h` reaches our parser, which refuses
     // it naming the key and the admissible range, instead of clap reading it as a flag.
-    /// Rotation speed with its unit, e.g. `60rpm` (rpm, rad/s, rev/s, Hz); a bare number is
-    /// refused [default: the problem's].
-    #[arg(long, allow_hyphen_values = true)]
+    // The help: the words below and the key's admissible range from the key table.
+    #[arg(long, allow_hyphen_values = true, help = with_range(
+        "Rotation speed with its unit, e.g. `60rpm` (rpm, rad/s, rev/s, Hz); a bare number is \
+         refused [default: the problem's]",
+        "operating_point.omega",
+    ))]
     pub omega: Option<String>,
-    /// Imposed axial velocity with its unit, e.g. `5m/h` (m/h, m/s, mm/s, m/min, ft/h); `0` is
-    /// off-bottom rotation; any other bare number is refused [default: the problem's].
-    #[arg(long, allow_hyphen_values = true)]
+    // The help: the words below and the key's admissible range from the key table.
+    #[arg(long, allow_hyphen_values = true, help = with_range(
+        "Imposed axial velocity with its unit, e.g. `5m/h` (m/h, m/s, mm/s, m/min, ft/h); `0` is \
+         off-bottom rotation; any other bare number is refused [default: the problem's]",
+        "operating_point.v0",
+    ))]
     pub v0: Option<String>,
-    /// The hook load's WOB set-point with its unit, e.g. `50kN` (N, kN, klbf, lbf); only with
-    /// `top = "hook_load"`, whose set-point it is [default: the problem's].
-    #[arg(long, allow_hyphen_values = true)]
+    // The help: the words below and the key's admissible range from the key table.
+    #[arg(long, allow_hyphen_values = true, help = with_range(
+        "The hook load's WOB set-point with its unit, e.g. `50kN` (N, kN, klbf, lbf); only with \
+         `top = \"hook_load\"`, whose set-point it is [default: the problem's]",
+        "operating_point.wob",
+    ))]
     pub wob: Option<String>,
-    /// Simulated duration, e.g. `90` (seconds) or `2s`, `1.5min` [default: simulation.duration];
-    /// the analysis window starts after simulation.settling_time (at most half the duration).
-    #[arg(long, allow_hyphen_values = true)]
+    // The help: the words below and the key's admissible range from the key table.
+    #[arg(long, allow_hyphen_values = true, help = with_range(
+        "Simulated duration, e.g. `90` (seconds) or `2s`, `1.5min` [default: \
+         simulation.duration]; the analysis window starts after simulation.settling_time (at \
+         most half the duration)",
+        "simulation.duration",
+    ))]
     pub duration: Option<String>,
+}
+
+/// `help` followed by the admissible range of `key` from the key table
+/// ([`crate::problem::keys::KEYS`]), in the unit a driller types: the help and the refusal
+/// quote one range.
+fn with_range(help: &str, key: &str) -> String {
+    match crate::problem::keys::find(key) {
+        Some(row) => {
+            let (unit, factor) = crate::problem::keys::display_unit(key, row.spec.dimension);
+            format!(
+                "{help}; admissible: {}",
+                row.spec.range.describe_in(unit, factor)
+            )
+        }
+        None => help.to_string(),
+    }
 }
 
 #[derive(Debug, Args)]
@@ -129,9 +158,9 @@ pub(super) fn parse_override(
 /// Refuse a command-line quantity outside the admissible range of the problem key it stands
 /// for (`--omega`, `--point`: `operating_point.omega`; `--v0`; `--duration`), the range said
 /// in the driller's unit of the key, the flag (`what`) and the key named. Every such key has a
-/// range ([`crate::problem::limits::range_of`]); each excludes NaN and ±∞.
+/// range ([`crate::problem::keys::range_of`]); each excludes NaN and ±∞.
 pub(super) fn in_range(what: &str, key: &str, text: &str, v: f64) -> anyhow::Result<()> {
-    let r = crate::problem::limits::range_of(key).expect("a command-line quantity has a range");
+    let r = crate::problem::keys::range_of(key).expect("a command-line quantity has a range");
     let (unit, factor) = match key {
         "operating_point.omega" => ("rpm", crate::units::from_rpm(1.0)),
         "operating_point.v0" => ("m/h", crate::units::from_m_per_h(1.0)),
@@ -237,7 +266,7 @@ fn sample_interval(
     let dt = Dimension::Time
         .parse(t)
         .with_context(|| format!("--sample-interval (key `{KEY}`; or `step`)"))?;
-    let r = crate::problem::limits::range_of(KEY).expect("the key has a range");
+    let r = crate::problem::keys::range_of(KEY).expect("the key has a range");
     anyhow::ensure!(
         r.contains(dt),
         "--sample-interval (key `{KEY}`) must be {} or `step`, got {t}",

@@ -24,8 +24,9 @@ pub use params::{
 };
 pub use section::{Section, cowper_shear_factor};
 pub use top::{
-    Autodriller, DEFAULT_TIME_CONSTANT, POWER_RANGE, TIME_CONSTANT_RANGE, TOP_DRIVES, TORQUE_RANGE,
-    TopDrive, WOB_RANGE, autodriller_acceleration,
+    AUTODRILLER_TIME_CONSTANT, Autodriller, DEFAULT_TIME_CONSTANT, POWER_LIMIT, POWER_RANGE,
+    TIME_CONSTANT_RANGE, TOP_DRIVES, TORQUE_LIMIT, TORQUE_RANGE, TopDrive, WOB_LIMIT, WOB_RANGE,
+    WOB_SET_POINT, autodriller_acceleration,
 };
 pub use torque_drag::SoftString;
 pub use wall::{NormalForce, WallContact, WallContactLaw, WallFriction, WallStiffnessPer};

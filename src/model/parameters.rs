@@ -82,23 +82,12 @@ impl fmt::Debug for StringParameter {
 }
 
 const fn row(
-    key: &'static str,
-    dimension: Dimension,
-    range: Range,
-    example: f64,
+    spec: ParameterSpec,
     enters: Enters,
     field: fn(&mut Drillstring) -> &mut f64,
-    doc: &'static str,
 ) -> StringParameter {
     StringParameter {
-        spec: ParameterSpec {
-            key,
-            dimension,
-            range,
-            default: None,
-            example,
-            doc,
-        },
+        spec,
         enters,
         field,
         above: None,
@@ -106,85 +95,107 @@ const fn row(
     }
 }
 
+const fn spec(
+    key: &'static str,
+    dimension: Dimension,
+    range: Range,
+    default: Option<f64>,
+    example: f64,
+    doc: &'static str,
+) -> ParameterSpec {
+    ParameterSpec {
+        key,
+        dimension,
+        range,
+        default,
+        example,
+        doc,
+    }
+}
+
 use Dimension as D;
 use Enters::{LinearOperators as Linear, NonlinearForces as Nonlinear};
 
+/// `model.pipe.damping`: the declaration the problem's key table ([`crate::problem::keys`]) and
+/// [`STRING_PARAMETERS`] share, as for the six below.
+pub const PIPE_DAMPING: ParameterSpec = spec(
+    "model.pipe.damping",
+    D::Rate,
+    Range::closed(0.0, 1e3, "mass-proportional damping c"),
+    None,
+    0.01,
+    "mass-proportional damping c (C = c M)",
+);
+pub const PIPE_STIFFNESS_DAMPING: ParameterSpec = spec(
+    "model.pipe.stiffness_damping",
+    D::Time,
+    Range::closed(
+        0.0,
+        1e-3,
+        "a damping ratio πβf of at most 31 % at 100 Hz (1e-3 s); 1e-5 s is 1 % at 318 Hz",
+    ),
+    Some(0.0),
+    1e-5,
+    "stiffness-proportional damping β (C = c M_pipe + β K); 0, the paper's, by default",
+);
+pub const PIPE_DENSITY: ParameterSpec = spec(
+    "model.pipe.density",
+    D::Density,
+    Range::closed(1e3, 25e3, "from light alloys to tungsten"),
+    None,
+    7850.0,
+    "steel density ρ",
+);
+pub const PIPE_YOUNGS_MODULUS: ParameterSpec = spec(
+    "model.pipe.youngs_modulus",
+    D::Pressure,
+    Range::closed(1e9, 1e12, "from polymers to tungsten carbide"),
+    None,
+    203e9,
+    "Young's modulus E",
+);
+pub const FLUID_DENSITY: ParameterSpec = spec(
+    "model.fluid.density",
+    D::Density,
+    Range::closed(0.0, 3e3, "from air to the heaviest muds"),
+    None,
+    1200.0,
+    "drilling-fluid density ρ_f inside the pipe (lateral mass and weight)",
+);
+pub const ANNULUS_DENSITY: ParameterSpec = spec(
+    "model.fluid.annulus_density",
+    D::Density,
+    Range::closed(0.0, 3e3, "from none (0) to the heaviest muds"),
+    Some(0.0),
+    1200.0,
+    "density ρ_a of the fluid in the annulus (buoyancy: gravity load; confined added mass); \
+     none (0), the paper's model, by default",
+);
+pub const BOREHOLE_RADIUS: ParameterSpec = spec(
+    "model.borehole.radius",
+    D::Length,
+    // It must also exceed the pipe's outer radius, at least 1 mm.
+    Range::closed(1e-3, 2.0, "a hole 2 mm to 4 m across"),
+    None,
+    0.1,
+    "borehole radius R_bh (greater than the pipe's largest outer radius)",
+);
+
 /// The string's parameters a study may declare uncertain.
 pub static STRING_PARAMETERS: [StringParameter; 7] = [
-    row(
-        "model.pipe.damping",
-        D::Rate,
-        Range::closed(0.0, 1e3, "mass-proportional damping c"),
-        0.01,
-        Linear,
-        |s| &mut s.damping,
-        "mass-proportional damping c (C = c M)",
-    ),
-    row(
-        "model.pipe.stiffness_damping",
-        D::Time,
-        Range::closed(
-            0.0,
-            1e-3,
-            "a damping ratio πβf of at most 31 % at 100 Hz (1e-3 s); 1e-5 s is 1 % at 318 Hz",
-        ),
-        1e-5,
-        Linear,
-        |s| &mut s.stiffness_damping,
-        "stiffness-proportional damping β (C = c M_pipe + β K)",
-    ),
-    row(
-        "model.pipe.density",
-        D::Density,
-        Range::closed(1e3, 25e3, "from light alloys to tungsten"),
-        7850.0,
-        Linear,
-        |s| &mut s.pipe.density,
-        "steel density ρ",
-    ),
-    row(
-        "model.pipe.youngs_modulus",
-        D::Pressure,
-        Range::closed(1e9, 1e12, "from polymers to tungsten carbide"),
-        203e9,
-        Linear,
-        |s| &mut s.pipe.youngs_modulus,
-        "Young's modulus E",
-    ),
-    row(
-        "model.fluid.density",
-        D::Density,
-        Range::closed(0.0, 3e3, "from air to the heaviest muds"),
-        1200.0,
-        Linear,
-        |s| &mut s.fluid_density,
-        "drilling-fluid density ρ_f (lateral mass and weight)",
-    ),
-    row(
-        "model.fluid.annulus_density",
-        D::Density,
-        Range::closed(0.0, 3e3, "from none (0) to the heaviest muds"),
-        1200.0,
-        Linear,
-        |s| &mut s.annulus_density,
-        "density ρ_a of the fluid in the annulus (buoyancy: gravity load; confined added mass)",
-    ),
+    row(PIPE_DAMPING, Linear, |s| &mut s.damping),
+    row(PIPE_STIFFNESS_DAMPING, Linear, |s| &mut s.stiffness_damping),
+    row(PIPE_DENSITY, Linear, |s| &mut s.pipe.density),
+    row(PIPE_YOUNGS_MODULUS, Linear, |s| &mut s.pipe.youngs_modulus),
+    row(FLUID_DENSITY, Linear, |s| &mut s.fluid_density),
+    row(ANNULUS_DENSITY, Linear, |s| &mut s.annulus_density),
     StringParameter {
         above: Some((
             |s| s.max_outer_radius(),
             "the pipe's (largest) outer radius",
         )),
         added_mass: true,
-        ..row(
-            "model.borehole.radius",
-            D::Length,
-            // It must also exceed the pipe's outer radius, at least 1 mm.
-            Range::closed(1e-3, 2.0, "a hole 2 mm to 4 m across"),
-            0.1,
-            Nonlinear,
-            |s| &mut s.borehole_radius,
-            "borehole radius R_bh",
-        )
+        ..row(BOREHOLE_RADIUS, Nonlinear, |s| &mut s.borehole_radius)
     },
 ];
 

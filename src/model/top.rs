@@ -34,7 +34,8 @@
 //! Sign conventions: F_top > 0 pushes the string towards the bit (compression at the top, the
 //! surface WOB), T_top > 0 turns it in the sense of Ω. Units SI.
 
-use crate::units::Range;
+use super::ParameterSpec;
+use crate::units::{Dimension, Range};
 
 /// How the top drive moves the string along its axis (`[operating_point] top`).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -155,6 +156,67 @@ pub const POWER_RANGE: Range =
 /// The autodriller's time constant when a file names none, s: a block that answers in a second,
 /// as the drawworks of a modern rig do.
 pub const DEFAULT_TIME_CONSTANT: f64 = 1.0;
+
+const fn top_key(
+    key: &'static str,
+    dimension: Dimension,
+    range: Range,
+    default: Option<f64>,
+    example: f64,
+    doc: &'static str,
+) -> ParameterSpec {
+    ParameterSpec {
+        key,
+        dimension,
+        range,
+        default,
+        example,
+        doc,
+    }
+}
+
+/// The keys of the driller's tops, as the problem's key table ([`crate::problem::keys`]) and
+/// their validation read them.
+pub const WOB_SET_POINT: ParameterSpec = top_key(
+    "operating_point.wob",
+    Dimension::Force,
+    WOB_RANGE,
+    None,
+    50e3,
+    "the hook load's WOB set-point, its surface push (top = \"hook_load\"; required with it)",
+);
+pub const WOB_LIMIT: ParameterSpec = top_key(
+    "operating_point.wob_limit",
+    Dimension::Force,
+    WOB_RANGE,
+    None,
+    80e3,
+    "the autodriller's surface WOB limit (top = \"autodriller\"; required with it)",
+);
+pub const TORQUE_LIMIT: ParameterSpec = top_key(
+    "operating_point.torque_limit",
+    Dimension::Torque,
+    TORQUE_RANGE,
+    None,
+    20e3,
+    "the autodriller's surface torque limit (optional: none)",
+);
+pub const POWER_LIMIT: ParameterSpec = top_key(
+    "operating_point.power_limit",
+    Dimension::Power,
+    POWER_RANGE,
+    None,
+    600e3,
+    "the top drive's power rating: a torque limit P/Ω (optional: none)",
+);
+pub const AUTODRILLER_TIME_CONSTANT: ParameterSpec = top_key(
+    "operating_point.autodriller_time_constant",
+    Dimension::Time,
+    TIME_CONSTANT_RANGE,
+    Some(DEFAULT_TIME_CONSTANT),
+    1.0,
+    "the autodriller's time constant τ",
+);
 
 /// The block's acceleration s̈ the autodriller commands (module doc) at block speed `speed`,
 /// surface WOB `wob` and surface torque `torque`, with its derivatives

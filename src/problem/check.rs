@@ -108,7 +108,38 @@ impl<'a> Checker<'a> {
         }
     }
 
-    /// A finite value in SI units, within its admissible range (see [`super::limits`]).
+    /// The value of a key of the key table ([`super::keys::KEYS`]) given as `raw` (SI, within
+    /// the key's range, in its dimension), or when it is not given the table's default; a
+    /// required key left out is refused (recorded: it reads as NaN).
+    pub(super) fn key_value(
+        &self,
+        key: &str,
+        raw: Option<&RawQuantity>,
+    ) -> Result<f64, ProblemError> {
+        let Some(row) = super::keys::find(key) else {
+            // A programming error that the key table's tests catch: said, not a panic.
+            return Err(self.fail(
+                key,
+                "is not in the key table (a bug: please report it)".into(),
+            ));
+        };
+        match (raw, row.spec.default) {
+            (Some(raw), _) => self.value(key, raw, row.spec.dimension),
+            (None, Some(default)) => Ok(default),
+            (None, None) => {
+                let (unit, factor) = shown_in(key, row.spec.dimension);
+                Ok(self.record(
+                    key,
+                    format!(
+                        "is required: a value {}",
+                        row.spec.range.describe_in(unit, factor)
+                    ),
+                ))
+            }
+        }
+    }
+
+    /// A finite value in SI units, within its admissible range (see [`super::keys`]).
     pub(super) fn value(
         &self,
         key: &str,
@@ -182,7 +213,7 @@ impl<'a> Checker<'a> {
         } else {
             // 1e300 GPa overflows to inf: say the range the key takes, when it has one.
             let (unit, factor) = shown_in(key, dim);
-            let allowed = super::limits::range_of(key).map_or(String::new(), |r| {
+            let allowed = super::keys::range_of(key).map_or(String::new(), |r| {
                 format!(" {}", r.describe_in(unit, factor))
             });
             let typed = match raw {
@@ -203,7 +234,7 @@ impl<'a> Checker<'a> {
 
     /// `v` if it lies in the admissible range of `range_key` (if it has one); refused under `key`.
     fn admissible_as(&self, key: &str, range_key: &str, v: f64, dim: Dimension) -> f64 {
-        match super::limits::range_of(range_key) {
+        match super::keys::range_of(range_key) {
             Some(r) if !v.is_nan() && !r.contains(v) => {
                 let (unit, factor) = shown_in(range_key, dim);
                 let of = if key == range_key {
@@ -272,7 +303,7 @@ impl<'a> Checker<'a> {
             return self.admissible(key, v, dim);
         }
         let (unit, factor) = shown_in(key, dim);
-        let allowed = match super::limits::range_of(key) {
+        let allowed = match super::keys::range_of(key) {
             // The range excludes what the sign does: it says it all.
             Some(r) if (r.lo > 0.0 && !(strict && r.zero)) || (r.lo == 0.0 && !strict) => {
                 r.describe_in(unit, factor)
@@ -349,8 +380,8 @@ pub(super) fn yield_strength(
     })
 }
 
-/// Upper bound on the element count: far beyond any useful mesh, it keeps dense algebra bounded.
-pub(super) const MAX_ELEMENTS: i64 = 2000;
+/// Upper bound on the element count ([`super::keys::MAX_ELEMENTS`]), as the file's integers are read.
+pub(super) const MAX_ELEMENTS: i64 = super::keys::MAX_ELEMENTS as i64;
 
 /// The refusal of a bare number for a quantity with a unit (issue 33: `omega = 60` ran at
 /// 572.96 rpm, read as rad/s, while the command line refuses `--omega 60`): the same number

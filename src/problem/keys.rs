@@ -8,8 +8,9 @@
 //! enter.
 
 use super::Problem;
-use crate::model::Law;
+use crate::model::{Law, ParameterSpec, WallFriction};
 use crate::units::Dimension::{self, *};
+use crate::units::Range;
 
 /// A numerical stage of building a model or running it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,110 +51,469 @@ const STIFFNESS: &[Stage] = &[StiffnessMatrix, RestingShape, Start, Step];
 const STATIC: &[Stage] = &[RestingShape, Start, Step];
 const DYNAMIC: &[Stage] = &[Start, Step];
 
-/// A key of the problem file, the stages it enters and its value (SI) in a problem.
-struct Row {
-    key: &'static str,
-    dimension: Dimension,
+/// What a problem takes when a file leaves a key out.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Omitted {
+    /// The key is required.
+    Required,
+    /// The spec's default ([`ParameterSpec::default`]).
+    Default,
+    /// What happens otherwise, in words (a default computed from other keys, or none).
+    Else(&'static str),
+}
+
+/// A scalar key of the problem file: its declaration (key, dimension, admissible range with its
+/// reason, default, a typical value, meaning), what a file without it gets, the numerical
+/// stages it enters and its value (SI) in a problem. Validation reads the range, dimension and
+/// default from here, refusals quote the range, the numerical failures name the keys of their
+/// stage ([`entering`]) and `drillopt keys` prints the table (docs/keys.md is its output).
+pub struct Key {
+    pub spec: ParameterSpec,
+    pub omitted: Omitted,
     stages: &'static [Stage],
     /// Whether the key is a size or material of the pipe, given per section in a string of
     /// sections.
     per_section: bool,
-    value: fn(&Problem) -> f64,
+    value: Option<fn(&Problem) -> f64>,
 }
 
-const fn row(
+impl Key {
+    /// What a file without the key gets, in words (SI values).
+    pub fn when_omitted(&self) -> String {
+        match (self.omitted, self.spec.default) {
+            (Omitted::Required, _) => "required".to_string(),
+            (Omitted::Default, Some(d)) => shown(self.spec.key, d, self.spec.dimension),
+            (Omitted::Default, None) => "required".to_string(),
+            (Omitted::Else(words), _) => words.to_string(),
+        }
+    }
+}
+
+const fn spec(
     key: &'static str,
     dimension: Dimension,
-    stages: &'static [Stage],
-    value: fn(&Problem) -> f64,
-) -> Row {
-    Row {
+    range: Range,
+    default: Option<f64>,
+    example: f64,
+    doc: &'static str,
+) -> ParameterSpec {
+    ParameterSpec {
         key,
         dimension,
+        range,
+        default,
+        example,
+        doc,
+    }
+}
+
+/// A key that enters the numerical `stages` with its value in a problem; required unless its
+/// spec has a default.
+const fn key(spec: ParameterSpec, stages: &'static [Stage], value: fn(&Problem) -> f64) -> Key {
+    Key {
+        omitted: match spec.default {
+            Some(_) => Omitted::Default,
+            None => Omitted::Required,
+        },
+        spec,
         stages,
         per_section: false,
-        value,
+        value: Some(value),
     }
 }
 
-/// A [`row`] of the pipe's sizes and materials (given per section in a string of sections).
-const fn pipe(
-    key: &'static str,
-    dimension: Dimension,
-    stages: &'static [Stage],
-    value: fn(&Problem) -> f64,
-) -> Row {
-    Row {
+/// A [`key`] of the pipe's sizes and materials (given per section in a string of sections).
+const fn pipe(spec: ParameterSpec, stages: &'static [Stage], value: fn(&Problem) -> f64) -> Key {
+    Key {
         per_section: true,
-        ..row(key, dimension, stages, value)
+        ..key(spec, stages, value)
     }
 }
 
-static ROWS: [Row; 20] = [
-    row("model.length", Length, ALL, |p| p.model.length),
-    row("mesh.elements", Dimensionless, ALL, |p| {
-        p.mesh.elements as f64
-    }),
-    pipe("model.pipe.outer_radius", Length, ALL, |p| {
-        p.model.pipe.outer_radius
-    }),
-    pipe("model.pipe.inner_radius", Length, ALL, |p| {
-        p.model.pipe.inner_radius
-    }),
-    pipe("model.pipe.density", Density, MASS, |p| {
-        p.model.pipe.density
-    }),
-    row("model.fluid.density", Density, MASS, |p| {
-        p.model.fluid_density
-    }),
-    row("model.fluid.annulus_density", Density, MASS, |p| {
-        p.model.annulus_density
-    }),
-    row("model.bit.inertia", MomentOfInertia, INERTIA, |p| {
-        p.model.bit_inertia
-    }),
-    pipe("model.pipe.youngs_modulus", Pressure, STIFFNESS, |p| {
+/// A key that enters no numerical stage's matrices (a limit, a reference value, an output).
+const fn plain(spec: ParameterSpec, omitted: Omitted) -> Key {
+    Key {
+        spec,
+        omitted,
+        stages: &[],
+        per_section: false,
+        value: None,
+    }
+}
+
+const fn closed(lo: f64, hi: f64, why: &'static str) -> Range {
+    Range::closed(lo, hi, why)
+}
+
+/// The lowest feed that is drilling, m/h: the axial statistics are relative to V0 (a V0 of
+/// 1e-300 m/h gave an axial velocity fluctuation of 1.7e288), and 0.1 m/h is slower than any
+/// rock is drilled. 0 is off-bottom rotation, a state of its own.
+pub const MIN_FEED_M_PER_H: f64 = 0.1;
+
+/// Upper bound on the element count: far beyond any useful mesh, it keeps dense algebra bounded.
+pub const MAX_ELEMENTS: usize = 2000;
+
+use crate::model::parameters::{
+    ANNULUS_DENSITY, BOREHOLE_RADIUS, FLUID_DENSITY, PIPE_DAMPING, PIPE_DENSITY,
+    PIPE_STIFFNESS_DAMPING, PIPE_YOUNGS_MODULUS,
+};
+use crate::model::{
+    AUTODRILLER_TIME_CONSTANT, POWER_LIMIT, TORQUE_LIMIT, WOB_LIMIT, WOB_SET_POINT,
+};
+
+/// The problem file's scalar keys, in the order of a file. The parameters of the wall contact
+/// and bit–rock laws are in each law's own table ([`crate::model::Law::parameters`]). Every
+/// range is closed and its lower end excludes the values that make the model meaningless: each
+/// says why its ends are where they are (the comments: what a value outside did).
+pub static KEYS: [Key; 31] = [
+    // Lower ends: a string of a few nanometres (or a pipe 2 nm across) is a typo, and the
+    // element shape functions and the mass matrix lose their meaning long before 0 (a 1e-300 m
+    // string panicked in the shape functions; a 1e-300 m radius made the mass matrix singular,
+    // reported under `mesh.basis`).
+    key(
+        spec(
+            "model.length",
+            Length,
+            closed(
+                1.0,
+                15e3,
+                "from a 1 m laboratory string to the longest wells, about 15 km",
+            ),
+            None,
+            35.0,
+            "the string's length L from the top drive to the bit (the sum of its sections')",
+        ),
+        ALL,
+        |p| p.model.length,
+    ),
+    // A gravity of 1e-300 printed a 150-digit buckling figure (the figures scale as a power of
+    // 1/g): 0 is a weightless test of the bare dynamics, else at least 0.1 m/s², below the
+    // gravity of any body a string is drilled on (the Moon's is 1.6 m/s²).
+    key(
+        spec(
+            "model.gravity",
+            Acceleration,
+            Range::zero_or(
+                0.1,
+                30.0,
+                "0 (weightless) or 0.1 m/s² to a few g; a tiny gravity inflates the buckling figures",
+            ),
+            Some(STANDARD_GRAVITY),
+            STANDARD_GRAVITY,
+            "gravity g, across the horizontal hole (0: a weightless string)",
+        ),
+        STATIC,
+        |p| p.model.gravity,
+    ),
+    pipe(
+        spec(
+            "model.pipe.outer_radius",
+            Length,
+            closed(1e-3, 1.0, "a pipe 2 mm to 2 m across"),
+            None,
+            0.0635,
+            "the pipe's outer radius R_ext (per section: outer_radius or outer_diameter)",
+        ),
+        ALL,
+        |p| p.model.pipe.outer_radius,
+    ),
+    // 0 is a solid bar; a bore below it is a solid bar too (continuous in the radius).
+    pipe(
+        spec(
+            "model.pipe.inner_radius",
+            Length,
+            closed(0.0, 1.0, "a pipe bore of at most 2 m"),
+            None,
+            0.0543,
+            "the pipe's bore radius R_int, below R_ext (0: a solid bar; per section also \
+             inner_diameter or linear_weight)",
+        ),
+        ALL,
+        |p| p.model.pipe.inner_radius,
+    ),
+    pipe(PIPE_DENSITY, MASS, |p| p.model.pipe.density),
+    pipe(PIPE_YOUNGS_MODULUS, STIFFNESS, |p| {
         p.model.pipe.youngs_modulus
     }),
-    pipe("model.pipe.poisson_ratio", Dimensionless, STIFFNESS, |p| {
-        p.model.pipe.poisson_ratio
-    }),
-    pipe("model.pipe.shear_factor", Dimensionless, STIFFNESS, |p| {
-        p.model.pipe.shear_factor
-    }),
-    pipe("model.pipe.torsion_factor", Dimensionless, STIFFNESS, |p| {
-        p.model.pipe.torsion_factor
-    }),
-    row("model.gravity", Acceleration, STATIC, |p| p.model.gravity),
-    row("model.borehole.radius", Length, STATIC, |p| {
-        p.model.borehole_radius
-    }),
-    row("model.pipe.damping", Rate, DYNAMIC, |p| p.model.damping),
-    row("model.pipe.stiffness_damping", Time, DYNAMIC, |p| {
+    // ν = −1 makes the shear modulus E/(2(1 + ν)) infinite and ν = 0.5 is incompressible.
+    pipe(
+        spec(
+            "model.pipe.poisson_ratio",
+            Dimensionless,
+            closed(
+                -0.9,
+                0.499,
+                "from auxetic foams to nearly incompressible solids; −1 makes the shear modulus infinite",
+            ),
+            None,
+            0.29,
+            "Poisson's ratio ν (shear modulus G = E/(2(1 + ν)))",
+        ),
+        STIFFNESS,
+        |p| p.model.pipe.poisson_ratio,
+    ),
+    // A factor of 1e-300 removed the shear (torsional) stiffness and failed in the eigen-solve
+    // naming other keys. Cowper's factor of a thin-walled tube is about 0.5 (0.15 at ν = −0.9),
+    // of a solid bar about 0.9.
+    Key {
+        omitted: Omitted::Else("\"cowper\": Cowper's factor of the section's radii and ν"),
+        ..pipe(
+            spec(
+                "model.pipe.shear_factor",
+                Dimensionless,
+                closed(
+                    0.1,
+                    1.0,
+                    "a shear correction factor; Cowper's is 0.5 for a thin tube, 0.9 for a solid bar",
+                ),
+                None,
+                0.53,
+                "the shear correction factor κ_s of the Timoshenko beam (a number, or \"cowper\")",
+            ),
+            STIFFNESS,
+            |p| p.model.pipe.shear_factor,
+        )
+    },
+    pipe(
+        spec(
+            "model.pipe.torsion_factor",
+            Dimensionless,
+            closed(
+                0.1,
+                1.0,
+                "a torsional stiffness factor κ_t; the paper takes it equal to the shear factor",
+            ),
+            Some(1.0),
+            1.0,
+            "the torsional stiffness factor κ_t, GJκ_t (a number, or \"shear\" for κ_t = κ_s)",
+        ),
+        STIFFNESS,
+        |p| p.model.pipe.torsion_factor,
+    ),
+    // The stresses are reported relative to it (1e-300 printed a 300-digit utilisation).
+    plain(
+        spec(
+            "model.pipe.yield_strength",
+            Pressure,
+            closed(
+                10e6,
+                3e9,
+                "from a polymer pipe's 10 MPa to the strongest steels, 3 GPa",
+            ),
+            None,
+            931e6,
+            "the pipe's minimum yield strength (or an API 5DP grade: \"E-75\", \"X-95\", \
+             \"G-105\", \"S-135\"): the reference of von_mises_safety_factor",
+        ),
+        Omitted::Else("none: the metrics relative to it are not computed"),
+    ),
+    key(PIPE_DAMPING, DYNAMIC, |p| p.model.damping),
+    key(PIPE_STIFFNESS_DAMPING, DYNAMIC, |p| {
         p.model.stiffness_damping
     }),
-    row("operating_point.omega", AngularVelocity, DYNAMIC, |p| {
-        p.operating_point.omega
-    }),
-    row("operating_point.v0", Velocity, DYNAMIC, |p| {
-        p.operating_point.v0
-    }),
-    row("simulation.time_step", Time, &[Step], |p| {
-        p.simulation.time_step
-    }),
-    row("simulation.duration", Time, &[Step], |p| {
-        p.simulation.duration
-    }),
+    key(FLUID_DENSITY, MASS, |p| p.model.fluid_density),
+    key(ANNULUS_DENSITY, MASS, |p| p.model.annulus_density),
+    key(BOREHOLE_RADIUS, STATIC, |p| p.model.borehole_radius),
+    // The wall law's own parameters are in its table; how its friction acts is the wall's.
+    plain(
+        spec(
+            "model.wall.slip_smoothing",
+            WallFriction::SLIP_SMOOTHING_DIMENSION,
+            WallFriction::SLIP_SMOOTHING_RANGE,
+            Some(WallFriction::DEFAULT_SLIP_SMOOTHING),
+            WallFriction::DEFAULT_SLIP_SMOOTHING,
+            "ε of the Coulomb wall friction's smooth slip magnitude √(|s|² + ε²) (friction_law = \
+             \"coulomb\", the default, only)",
+        ),
+        Omitted::Default,
+    ),
+    key(
+        spec(
+            "model.bit.inertia",
+            MomentOfInertia,
+            closed(
+                0.0,
+                1e3,
+                "at most 1000 kg·m² (a 12¼ in bit is about 1 kg·m², a whole BHA tens to hundreds)",
+            ),
+            Some(0.0),
+            0.4,
+            "the polar inertia of the bit and what turns with it below the last node, lumped \
+             on the bit's spin (0: the paper's model)",
+        ),
+        INERTIA,
+        |p| p.model.bit_inertia,
+    ),
+    key(
+        spec(
+            "mesh.elements",
+            Dimensionless,
+            Range::integer(
+                1.0,
+                MAX_ELEMENTS as f64,
+                "far beyond any useful mesh: it keeps the dense algebra bounded",
+            ),
+            None,
+            105.0,
+            "the number N of two-node beam elements, 6(N + 1) degrees of freedom",
+        ),
+        ALL,
+        |p| p.mesh.elements as f64,
+    ),
+    key(
+        spec(
+            "operating_point.omega",
+            AngularVelocity,
+            closed(
+                crate::units::from_rpm(1.0),
+                crate::units::from_rpm(1000.0),
+                "1 to 1000 rpm: the stick-slip statistics are relative to Ω",
+            ),
+            None,
+            std::f64::consts::TAU,
+            "the top drive's rotation speed Ω",
+        ),
+        DYNAMIC,
+        |p| p.operating_point.omega,
+    ),
+    Key {
+        omitted: Omitted::Else("required unless top = \"hook_load\" (refused with it)"),
+        ..key(
+            spec(
+                "operating_point.v0",
+                Velocity,
+                Range::zero_or(
+                    crate::units::from_m_per_h(MIN_FEED_M_PER_H),
+                    crate::units::from_m_per_h(1000.0),
+                    "0 is off-bottom rotation; else from 0.1 m/h, slower than any rock is drilled, to at most 1000 m/h",
+                ),
+                None,
+                5.0 / 3600.0,
+                "the feed V0: the top's imposed axial velocity (the autodriller's set-point)",
+            ),
+            DYNAMIC,
+            |p| p.operating_point.v0,
+        )
+    },
+    plain(WOB_SET_POINT, Omitted::Required),
+    plain(WOB_LIMIT, Omitted::Required),
+    plain(TORQUE_LIMIT, Omitted::Else("none")),
+    plain(POWER_LIMIT, Omitted::Else("none")),
+    plain(AUTODRILLER_TIME_CONSTANT, Omitted::Default),
+    plain(
+        spec(
+            "campbell.excitation_multiple",
+            Dimensionless,
+            closed(
+                1.0,
+                50.0,
+                "1× to 50× the rotation frequency: 3 for a tri-cone bit, the blade count of a PDC bit",
+            ),
+            Some(3.0),
+            3.0,
+            "the second excitation line K×Ω of the Campbell diagram and critical_speed_margin",
+        ),
+        Omitted::Default,
+    ),
+    // Depth of cut per revolution 2π V0/Ω: a limit below 1 µm is finer than any cutter's edge,
+    // above 10 cm taller than any cutter (PDC cutters are 8-19 mm).
+    plain(
+        spec(
+            "constraints.max_depth_of_cut",
+            Length,
+            closed(
+                1e-6,
+                0.1,
+                "a depth of cut per revolution from 1 µm to 10 cm",
+            ),
+            None,
+            5e-3,
+            "the largest depth of cut per revolution 2π V0/Ω: a linear limit on (Ω, V0)",
+        ),
+        Omitted::Else("none"),
+    ),
+    // At least the shortest time step: `--duration 1e-300` took no step and failed naming no
+    // key; a run of one step ends with its metrics refused, said so.
+    key(
+        spec(
+            "simulation.duration",
+            Time,
+            closed(
+                1e-6,
+                86_400.0,
+                "at least the shortest time step, 1 µs, at most a day of simulated time",
+            ),
+            None,
+            90.0,
+            "the simulated time of a run",
+        ),
+        &[Step],
+        |p| p.simulation.duration,
+    ),
+    key(
+        spec(
+            "simulation.time_step",
+            Time,
+            closed(1e-6, 1.0, "a nominal step between 1 µs and 1 s"),
+            None,
+            0.069,
+            "the nominal (largest) step, never above 1/20 of the lowest torsional and axial periods",
+        ),
+        &[Step],
+        |p| p.simulation.time_step,
+    ),
+    plain(
+        spec(
+            "simulation.settling_time",
+            Time,
+            closed(
+                0.0,
+                43_200.0,
+                "at most half the duration, so that the analysis window is never shorter than what it discards",
+            ),
+            Some(0.0),
+            10.0,
+            "the time discarded before the metrics' analysis window starts",
+        ),
+        Omitted::Default,
+    ),
+    plain(
+        spec(
+            "simulation.sample_interval",
+            Time,
+            closed(
+                1e-6,
+                1.0,
+                "an output interval between 1 µs and 1 s (or \"step\": every accepted step)",
+            ),
+            Some(5e-4),
+            5e-4,
+            "the interval of simulate's written time history (or \"step\"); no metric depends on it",
+        ),
+        Omitted::Default,
+    ),
 ];
 
-/// The dimension of a problem-file key of the model's parameter table or of this one (for the
-/// range a message gives); `None` for other keys.
+/// Standard gravity, m/s², when the file omits `model.gravity`.
+pub const STANDARD_GRAVITY: f64 = 9.81;
+
+/// The row of `key` in [`KEYS`].
+pub fn find(key: &str) -> Option<&'static Key> {
+    KEYS.iter().find(|r| r.spec.key == key)
+}
+
+/// The admissible range of a problem-file key of [`KEYS`]. The operating point's ranges are
+/// also those of the bounds of `[constraints]`, of `optimizer.start` and of the command line's
+/// `--omega`, `--v0`, `--point` and `--duration`. The parameters of the wall contact and bit–rock
+/// laws are checked against the law's own table.
+pub fn range_of(key: &str) -> Option<Range> {
+    find(key).map(|r| r.spec.range)
+}
+
+/// The dimension of a problem-file key of [`KEYS`] (for the range a message gives); `None` for
+/// other keys.
 pub fn dimension_of(key: &str) -> Option<Dimension> {
-    crate::model::parameters::STRING_PARAMETERS
-        .iter()
-        .find(|r| r.spec.key == key)
-        .map(|r| r.spec.dimension)
-        .or_else(|| ROWS.iter().find(|r| r.key == key).map(|r| r.dimension))
+    find(key).map(|r| r.spec.dimension)
 }
 
 /// Whether the laws' parameters enter `stage`: the wall's from the resting shape on, the bit's
@@ -175,21 +535,24 @@ fn digits(value: f64) -> String {
 /// The value of `key` with its unit, as a message shows it: rotation speeds in rpm, the feed and
 /// the bit's velocities in m/h (as a driller types them), the wall's impact speed and every other
 /// quantity in SI.
-fn shown(key: &str, value: f64, dimension: Dimension) -> String {
-    match dimension {
-        AngularVelocity => {
-            return format!("{} rpm", digits(crate::units::to_rpm(value)));
-        }
-        Velocity if !key.starts_with("model.wall.") => {
-            return format!("{} m/h", digits(crate::units::to_m_per_h(value)));
-        }
-        _ => {}
-    }
-    let unit = dimension.si_unit();
+pub fn shown(key: &str, value: f64, dimension: Dimension) -> String {
+    let (unit, factor) = display_unit(key, dimension);
     if matches!(dimension, Dimensionless) || unit.is_empty() {
-        digits(value)
+        digits(value / factor)
     } else {
-        format!("{} {unit}", digits(value))
+        format!("{} {unit}", digits(value / factor))
+    }
+}
+
+/// The unit a key's values and range are shown in, and its size in SI: rotation speeds in rpm,
+/// the feed and the bit's velocities in m/h (as a driller types them), the wall's impact speed
+/// and every other quantity in SI.
+pub fn display_unit(key: &str, dimension: Dimension) -> (&'static str, f64) {
+    match dimension {
+        AngularVelocity => ("rpm", crate::units::from_rpm(1.0)),
+        Velocity if !key.starts_with("model.wall.") => ("m/h", crate::units::from_m_per_h(1.0)),
+        Dimensionless => ("", 1.0),
+        _ => (dimension.si_unit(), 1.0),
     }
 }
 
@@ -199,7 +562,8 @@ pub fn entering(problem: &Problem, stage: Stage) -> Vec<(String, String)> {
     let sections = !problem.model.sections.is_empty();
     let mut out: Vec<(String, String)> = Vec::new();
     let mut named_sections = false;
-    for r in ROWS.iter().filter(|r| r.stages.contains(&stage)) {
+    for r in KEYS.iter().filter(|r| r.stages.contains(&stage)) {
+        let Some(value) = r.value else { continue };
         if r.per_section && sections {
             if !named_sections {
                 out.push((
@@ -214,8 +578,8 @@ pub fn entering(problem: &Problem, stage: Stage) -> Vec<(String, String)> {
             continue;
         }
         out.push((
-            r.key.to_string(),
-            shown(r.key, (r.value)(problem), r.dimension),
+            r.spec.key.to_string(),
+            shown(r.spec.key, value(problem), r.spec.dimension),
         ));
     }
     let (wall, bit) = laws_enter(stage);
@@ -331,5 +695,36 @@ mod tests {
         assert!(d.contains("`model.section[*]`"), "{d}");
         assert!(!d.contains("model.pipe.outer_radius"), "{d}");
         assert_eq!(d.matches("model.section[*]").count(), 1, "{d}");
+    }
+
+    #[test]
+    fn ranges_hold_the_seed_and_refuse_typos() {
+        for (key, seed) in [
+            ("model.length", 35.0),
+            ("model.pipe.density", 7900.0),
+            ("model.pipe.youngs_modulus", 203e9),
+            ("operating_point.omega", 2.0 * std::f64::consts::PI),
+            ("operating_point.v0", 1.0 / 720.0),
+            ("simulation.duration", 90.0),
+            ("simulation.time_step", 0.069),
+        ] {
+            let r = range_of(key).unwrap();
+            assert!(r.contains(seed), "{key} = {seed}");
+            assert!(!r.contains(seed * 1e7), "{key} × 1e7");
+            assert!(!r.contains(f64::INFINITY) && !r.contains(f64::NAN));
+        }
+        assert!(!range_of("model.length").unwrap().contains(0.0));
+        assert!(!range_of("model.length").unwrap().contains(1e-300));
+        assert!(
+            !range_of("model.pipe.outer_radius")
+                .unwrap()
+                .contains(1e-300)
+        );
+        // Off-bottom rotation (issue 13 item 13); a negative feed is refused.
+        assert!(range_of("operating_point.v0").unwrap().contains(0.0));
+        assert!(!range_of("operating_point.v0").unwrap().contains(-1e-9));
+        // The element count is a whole number.
+        assert!(range_of("mesh.elements").unwrap().contains(105.0));
+        assert!(!range_of("mesh.elements").unwrap().contains(10.5));
     }
 }

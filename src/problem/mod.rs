@@ -9,7 +9,7 @@ mod check;
 mod error;
 pub mod file;
 pub mod keys;
-pub mod limits;
+pub mod reference;
 pub mod schema;
 pub mod study;
 mod validate;

@@ -15,9 +15,6 @@ use crate::model::{
 use serde::Deserialize;
 use std::path::Path;
 
-/// Standard gravity, m/s², used when the file omits `model.gravity`.
-pub const STANDARD_GRAVITY: f64 = 9.81;
-
 /// Most shape errors reported at once: each one the parse meets is recorded and its key taken
 /// out of the table before parsing again, up to this many.
 const MAX_SHAPE_ERRORS: usize = 100;
@@ -107,12 +104,14 @@ pub(super) fn parse(text: &str, file: &Path) -> Result<Parsed, ProblemError> {
             if !removed.contains(&key) {
                 // What the key takes, when the tables know it.
                 let message = match (
-                    super::limits::range_of(&key),
+                    super::keys::range_of(&key),
                     super::keys::dimension_of(&key),
                 ) {
                     (Some(r), Some(dim)) => {
                         let (unit, factor) = shown_in(&key, dim);
-                        format!("is required: a value {}", r.describe_in(unit, factor))
+                        // "a whole number in [1, 2000]" says what it is by itself.
+                        let a_value = if r.integer { "" } else { "a value " };
+                        format!("is required: {a_value}{}", r.describe_in(unit, factor))
                     }
                     _ => required(&key).unwrap_or_else(|| {
                         // A whole table left out: `[model.wall]`.
@@ -515,30 +514,24 @@ pub(super) fn problem(
 
 /// `[campbell]`: the excitation multiple, a number in [1, 50] (default 3, a tri-cone bit).
 fn campbell(c: &Checker, s: Option<&CampbellSection>) -> Result<CampbellSettings, ProblemError> {
-    let mut settings = CampbellSettings::default();
-    if let Some(raw) = s.and_then(|s| s.excitation_multiple.as_ref()) {
-        settings.excitation_multiple = c.value(
+    Ok(CampbellSettings {
+        excitation_multiple: c.key_value(
             "campbell.excitation_multiple",
-            raw,
-            Dimension::Dimensionless,
-        )?;
-    }
-    Ok(settings)
+            s.and_then(|s| s.excitation_multiple.as_ref()),
+        )?,
+    })
 }
 
 fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemError> {
     use Dimension::*;
     let length = c.positive("model.length", &m.length, Length)?;
-    let gravity = match &m.gravity {
-        Some(g) => c.non_negative("model.gravity", g, Acceleration)?,
-        None => STANDARD_GRAVITY,
-    };
+    let gravity = c.key_value("model.gravity", m.gravity.as_ref())?;
     let mut pipe = pipe(c, &m.pipe)?;
     let fluid_density = c.non_negative("model.fluid.density", &m.fluid.density, Density)?;
-    let annulus_density = match &m.fluid.annulus_density {
-        Some(raw) => c.non_negative("model.fluid.annulus_density", raw, Density)?,
-        None => 0.0,
-    };
+    let annulus_density = c.key_value(
+        "model.fluid.annulus_density",
+        m.fluid.annulus_density.as_ref(),
+    )?;
     let borehole_radius = c.positive("model.borehole.radius", &m.borehole.radius, Length)?;
     let sections =
         super::validate_sections::sections(c, &m.section, &pipe, length, borehole_radius);
@@ -586,10 +579,10 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         )?;
     }
     let damping = c.non_negative("model.pipe.damping", &m.pipe.damping, Rate)?;
-    let stiffness_damping = match &m.pipe.stiffness_damping {
-        Some(raw) => c.non_negative("model.pipe.stiffness_damping", raw, Time)?,
-        None => 0.0,
-    };
+    let stiffness_damping = c.key_value(
+        "model.pipe.stiffness_damping",
+        m.pipe.stiffness_damping.as_ref(),
+    )?;
     // `friction_law` and `slip_smoothing` say how the law's friction acts, whatever the law:
     // taken out before the law's table is checked.
     let mut wall_section = m.wall.clone();
@@ -610,10 +603,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     let mut bit_section = m.bit.clone();
     let inertia = bit_section.parameters.remove("inertia");
     let bit = chosen_law(c, "model.bit", &bit_section, BIT_LAWS, &["law", "inertia"])?;
-    let bit_inertia = match &inertia {
-        Some(j) => c.non_negative("model.bit.inertia", j, MomentOfInertia)?,
-        None => 0.0,
-    };
+    let bit_inertia = c.key_value("model.bit.inertia", inertia.as_ref())?;
     Ok(Drillstring {
         bit_inertia,
         length,
@@ -684,20 +674,7 @@ fn wall_friction(
     let smoothing_key = "model.wall.slip_smoothing";
     match name.as_str() {
         "coulomb" => {
-            let slip_smoothing = match &smoothing {
-                None => WallFriction::DEFAULT_SLIP_SMOOTHING,
-                Some(raw) => {
-                    let spec = crate::model::ParameterSpec {
-                        key: smoothing_key,
-                        dimension: WallFriction::SLIP_SMOOTHING_DIMENSION,
-                        range: WallFriction::SLIP_SMOOTHING_RANGE,
-                        default: Some(WallFriction::DEFAULT_SLIP_SMOOTHING),
-                        example: WallFriction::DEFAULT_SLIP_SMOOTHING,
-                        doc: "ε of the Coulomb friction's smooth magnitude √(|s|² + ε²)",
-                    };
-                    c.spec_value(&spec, raw)?
-                }
-            };
+            let slip_smoothing = c.key_value(smoothing_key, smoothing.as_ref())?;
             Ok(WallFriction::Coulomb { slip_smoothing })
         }
         "paper" => {
@@ -799,11 +776,11 @@ fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {
         Length,
     )?;
     let cowper = cowper_shear_factor(poisson_ratio, inner_radius, outer_radius);
-    // The factors' range (limits::range_of) excludes 1e-300, which removed the section's shear
+    // The factors' range (keys::range_of) excludes 1e-300, which removed the section's shear
     // stiffness and failed in the eigen-solve naming other keys.
     let factor =
         |key: &str, raw: &Option<RawQuantity>, word: &str, word_value: f64, default: f64| {
-            let range = super::limits::range_of(key).expect("the factors have a range");
+            let range = super::keys::range_of(key).expect("the factors have a range");
             let allowed = format!("a number {} or \"{word}\"", range.describe_in("", 1.0));
             match raw {
                 None => Ok(default),

@@ -123,7 +123,7 @@ fn section(
                 // No range of its own: the radius it halves to is checked below.
                 let v = c.value_as(&key(&format!("{which}_diameter")), "", d, Length);
                 let r = 0.5 * v;
-                match super::limits::range_of(&range_key) {
+                match super::keys::range_of(&range_key) {
                     Some(range) if !r.is_nan() && !range.contains(r) => c.record(
                         &key(&format!("{which}_diameter")),
                         format!(

@@ -4,24 +4,11 @@ use super::ProblemError;
 use super::check::Checker;
 use super::schema::{OperatingPointSection, RawQuantity};
 use crate::model::{
-    Autodriller, DEFAULT_TIME_CONSTANT, POWER_RANGE, ParameterSpec, TIME_CONSTANT_RANGE,
-    TORQUE_RANGE, TopDrive, WOB_RANGE,
+    AUTODRILLER_TIME_CONSTANT, Autodriller, POWER_LIMIT, TORQUE_LIMIT, TopDrive, WOB_LIMIT,
 };
-use crate::units::{Dimension, Range};
 
 /// The tops a problem file can choose.
 const FILE_TOPS: [&str; 3] = crate::model::TOP_DRIVES;
-
-fn spec(key: &'static str, dimension: Dimension, range: Range, doc: &'static str) -> ParameterSpec {
-    ParameterSpec {
-        key,
-        dimension,
-        range,
-        default: None,
-        example: 0.0,
-        doc,
-    }
-}
 
 /// The top law of `[operating_point]`: `"feed"` when `top` is absent. Keys of another law than
 /// the one chosen are refused (a `wob_limit` without the autodriller would be silently unused).
@@ -80,59 +67,32 @@ pub(super) fn top(c: &Checker, o: &OperatingPointSection) -> Result<TopDrive, Pr
             );
         }
     }
-    let value = |k: &'static str, raw: &RawQuantity, dim, range, doc| {
-        c.spec_value(&spec(k, dim, range, doc), raw)
-    };
     match name.as_str() {
         "feed" => Ok(TopDrive::Feed),
         // The set-point `wob` is the operating point's (read with it).
         "hook_load" => Ok(TopDrive::HookLoad),
         "autodriller" => {
             let wob_limit = match &o.wob_limit {
-                Some(raw) => value(
-                    "operating_point.wob_limit",
-                    raw,
-                    Dimension::Force,
-                    WOB_RANGE,
-                    "the autodriller's surface WOB limit",
-                )?,
+                Some(raw) => c.spec_value(&WOB_LIMIT, raw)?,
                 None => c.record(
-                    "operating_point.wob_limit",
+                    WOB_LIMIT.key,
                     "is required with top = \"autodriller\": the surface WOB (e.g. \"80 kN\") \
                      above which the block slows"
                         .into(),
                 ),
             };
             let torque_limit = match &o.torque_limit {
-                Some(raw) => Some(value(
-                    "operating_point.torque_limit",
-                    raw,
-                    Dimension::Torque,
-                    TORQUE_RANGE,
-                    "the autodriller's surface torque limit",
-                )?),
+                Some(raw) => Some(c.spec_value(&TORQUE_LIMIT, raw)?),
                 None => None,
             };
             let power_limit = match &o.power_limit {
-                Some(raw) => Some(value(
-                    "operating_point.power_limit",
-                    raw,
-                    Dimension::Power,
-                    POWER_RANGE,
-                    "the top drive's power rating: a torque limit P/Ω",
-                )?),
+                Some(raw) => Some(c.spec_value(&POWER_LIMIT, raw)?),
                 None => None,
             };
-            let time_constant = match &o.autodriller_time_constant {
-                Some(raw) => value(
-                    "operating_point.autodriller_time_constant",
-                    raw,
-                    Dimension::Time,
-                    TIME_CONSTANT_RANGE,
-                    "the autodriller's time constant τ",
-                )?,
-                None => DEFAULT_TIME_CONSTANT,
-            };
+            let time_constant = c.key_value(
+                AUTODRILLER_TIME_CONSTANT.key,
+                o.autodriller_time_constant.as_ref(),
+            )?;
             Ok(TopDrive::Autodriller(Autodriller {
                 wob_limit,
                 torque_limit,

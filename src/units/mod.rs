@@ -39,7 +39,7 @@ pub const RAD_S_PER_RPM: f64 = 2.0 * std::f64::consts::PI / 60.0;
 pub const M_S_PER_M_PER_H: f64 = 1.0 / 3600.0;
 
 /// Ω in rpm → rad/s: the one conversion, the same arithmetic as the parse of `"<rpm> rpm"`.
-pub fn from_rpm(rpm: f64) -> f64 {
+pub const fn from_rpm(rpm: f64) -> f64 {
     rpm * RAD_S_PER_RPM
 }
 
@@ -49,7 +49,7 @@ pub fn to_m_per_h(v_m_s: f64) -> f64 {
 }
 
 /// V in m/h → m/s: the one conversion, the same arithmetic as the parse of `"<v> m/h"`.
-pub fn from_m_per_h(v_m_h: f64) -> f64 {
+pub const fn from_m_per_h(v_m_h: f64) -> f64 {
     v_m_h * M_S_PER_M_PER_H
 }
 

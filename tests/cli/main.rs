@@ -13,6 +13,7 @@ mod cli_exit_status;
 mod cli_overrides;
 mod compare_feasibility;
 mod converged_model;
+mod keys_reference;
 mod off_bottom;
 mod output_dirs;
 mod quiet_output;

@@ -362,7 +362,7 @@ fn issue_34_seeds_never_panic_and_are_refused_naming_file_and_key() {
 #[test]
 fn command_line_points_never_panic_and_accepted_ones_are_admissible() {
     use drillopt::model::SetPoint;
-    use drillopt::problem::limits::range_of;
+    use drillopt::problem::keys::range_of;
     let config = Config {
         cases: 8 * cases(),
         failure_persistence: None,

@@ -1069,7 +1069,10 @@ fn a_settling_time_longer_than_half_the_duration_is_refused() {
     refused(
         &set("simulation", "settling_time", "\"-1 s\""),
         "simulation.settling_time",
-        &["must be >= 0, got -1 s"],
+        &[
+            "must be in [0, 43200] s (at most half the duration",
+            "got -1 s",
+        ],
     );
 }
 
