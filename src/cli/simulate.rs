@@ -77,10 +77,13 @@ pub struct SimulateArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
-    /// Interval of the written time history (`timeseries.csv`, plots), e.g. `0.5ms`, or `step`
-    /// for every accepted adaptive step [default: simulation.sample_interval, 0.5 ms]; the
-    /// metrics read every accepted step whatever it is.
-    #[arg(long, allow_hyphen_values = true)]
+    // The help: the words below and the key's admissible range from the key table.
+    #[arg(long, allow_hyphen_values = true, help = with_range(
+        "Interval of the written time history (`timeseries.csv`, plots), e.g. `0.5ms`, or `step` \
+         for every accepted adaptive step [default: simulation.sample_interval, 0.5 ms]; the \
+         metrics read every accepted step whatever it is",
+        "simulation.sample_interval",
+    ))]
     pub sample_interval: Option<String>,
     /// Run the finite-element model without reduction (every free DOF; a reference for the
     /// reduced basis, for windows of a few seconds: about 100× the reduced model's cost).

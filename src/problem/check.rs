@@ -334,10 +334,10 @@ impl<'a> Checker<'a> {
 /// [0.10471975511965977, 104.71975511965977] rad/s … got 1.0471975511965978e-301 rad/s"), every
 /// other key in SI.
 pub(super) fn shown_in(key: &str, dim: Dimension) -> (&'static str, f64) {
-    match key {
-        "operating_point.omega" => ("rpm", crate::units::from_rpm(1.0)),
-        "operating_point.v0" => ("m/h", crate::units::from_m_per_h(1.0)),
-        _ => (dim.si_unit(), 1.0),
+    match super::keys::display_unit(key, dim) {
+        // A number without unit: said so after it, as before.
+        ("", _) => (dim.si_unit(), 1.0),
+        shown => shown,
     }
 }
 

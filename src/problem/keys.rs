@@ -205,32 +205,38 @@ pub static KEYS: [Key; 31] = [
         STATIC,
         |p| p.model.gravity,
     ),
-    pipe(
-        spec(
-            "model.pipe.outer_radius",
-            Length,
-            closed(1e-3, 1.0, "a pipe 2 mm to 2 m across"),
-            None,
-            0.0635,
-            "the pipe's outer radius R_ext (per section: outer_radius or outer_diameter)",
-        ),
-        ALL,
-        |p| p.model.pipe.outer_radius,
-    ),
+    Key {
+        omitted: Omitted::Else("required, unless [[model.section]] give the sizes (then refused)"),
+        ..pipe(
+            spec(
+                "model.pipe.outer_radius",
+                Length,
+                closed(1e-3, 1.0, "a pipe 2 mm to 2 m across"),
+                None,
+                0.0635,
+                "the pipe's outer radius R_ext (per section: outer_radius or outer_diameter)",
+            ),
+            ALL,
+            |p| p.model.pipe.outer_radius,
+        )
+    },
     // 0 is a solid bar; a bore below it is a solid bar too (continuous in the radius).
-    pipe(
-        spec(
-            "model.pipe.inner_radius",
-            Length,
-            closed(0.0, 1.0, "a pipe bore of at most 2 m"),
-            None,
-            0.0543,
-            "the pipe's bore radius R_int, below R_ext (0: a solid bar; per section also \
+    Key {
+        omitted: Omitted::Else("required, unless [[model.section]] give the sizes (then refused)"),
+        ..pipe(
+            spec(
+                "model.pipe.inner_radius",
+                Length,
+                closed(0.0, 1.0, "a pipe bore of at most 2 m"),
+                None,
+                0.0543,
+                "the pipe's bore radius R_int, below R_ext (0: a solid bar; per section also \
              inner_diameter or linear_weight)",
-        ),
-        ALL,
-        |p| p.model.pipe.inner_radius,
-    ),
+            ),
+            ALL,
+            |p| p.model.pipe.inner_radius,
+        )
+    },
     pipe(PIPE_DENSITY, MASS, |p| p.model.pipe.density),
     pipe(PIPE_YOUNGS_MODULUS, STIFFNESS, |p| {
         p.model.pipe.youngs_modulus
@@ -395,10 +401,22 @@ pub static KEYS: [Key; 31] = [
             |p| p.operating_point.v0,
         )
     },
-    plain(WOB_SET_POINT, Omitted::Required),
-    plain(WOB_LIMIT, Omitted::Required),
-    plain(TORQUE_LIMIT, Omitted::Else("none")),
-    plain(POWER_LIMIT, Omitted::Else("none")),
+    plain(
+        WOB_SET_POINT,
+        Omitted::Else("required with top = \"hook_load\", refused with another top"),
+    ),
+    plain(
+        WOB_LIMIT,
+        Omitted::Else("required with top = \"autodriller\", refused with another top"),
+    ),
+    plain(
+        TORQUE_LIMIT,
+        Omitted::Else("none (top = \"autodriller\" only)"),
+    ),
+    plain(
+        POWER_LIMIT,
+        Omitted::Else("none (top = \"autodriller\" only)"),
+    ),
     plain(AUTODRILLER_TIME_CONSTANT, Omitted::Default),
     plain(
         spec(
@@ -532,9 +550,7 @@ fn digits(value: f64) -> String {
     }
 }
 
-/// The value of `key` with its unit, as a message shows it: rotation speeds in rpm, the feed and
-/// the bit's velocities in m/h (as a driller types them), the wall's impact speed and every other
-/// quantity in SI.
+/// The value of `key` with its unit, as a message shows it ([`display_unit`]).
 pub fn shown(key: &str, value: f64, dimension: Dimension) -> String {
     let (unit, factor) = display_unit(key, dimension);
     if matches!(dimension, Dimensionless) || unit.is_empty() {
@@ -544,14 +560,16 @@ pub fn shown(key: &str, value: f64, dimension: Dimension) -> String {
     }
 }
 
-/// The unit a key's values and range are shown in, and its size in SI: rotation speeds in rpm,
-/// the feed and the bit's velocities in m/h (as a driller types them), the wall's impact speed
-/// and every other quantity in SI.
+/// The unit a key's values and range are shown in, and its size in SI: the operating point in
+/// the driller's rpm and m/h (`omega = "1e-300 rpm"` was refused as "must be in
+/// [0.10471975511965977, 104.71975511965977] rad/s … got 1.0471975511965978e-301 rad/s"), every
+/// other key in SI (the laws' smoothing speeds too). Refusals, the error hints, `drillopt keys`
+/// and the command line's help all show a key in this unit.
 pub fn display_unit(key: &str, dimension: Dimension) -> (&'static str, f64) {
-    match dimension {
-        AngularVelocity => ("rpm", crate::units::from_rpm(1.0)),
-        Velocity if !key.starts_with("model.wall.") => ("m/h", crate::units::from_m_per_h(1.0)),
-        Dimensionless => ("", 1.0),
+    match (key, dimension) {
+        ("operating_point.omega", _) => ("rpm", crate::units::from_rpm(1.0)),
+        ("operating_point.v0", _) => ("m/h", crate::units::from_m_per_h(1.0)),
+        (_, Dimensionless) => ("", 1.0),
         _ => (dimension.si_unit(), 1.0),
     }
 }

@@ -44,8 +44,15 @@ pub fn markdown() -> String {
          for word (a test keeps this file equal to the command's output). Every range is closed; \
          a value outside it is refused naming the file, the key and the range. A quantity with a \
          unit is written with it (`\"60 rpm\"`, `\"5 m/h\"`, `\"5.5 in\"`, `\"19.5 ppg\"`); the \
-         ranges are given in SI, the rotation speed in rpm and the feed in m/h. The structure of \
-         a file (its tables, the sections, the study) is in the [user guide](user-guide.md#problem-files).\n\n\
+         ranges are given in SI, the rotation speed in rpm and the feed in m/h, as refusals \
+         give them.\n\n\
+         This reference holds the keys that take a number. The keys that take a word or a list \
+         (`model.wall.law`, `friction_law`, `stiffness_per`, `model.bit.law`, \
+         `operating_point.top`, `simulation.start`, `simulation.probes`, `mesh.reduced_modes`, \
+         `[mesh.basis]`, `name`, `description`), the tables of a string of sections \
+         (`[[model.section]]`: each section's sizes take the ranges of `model.pipe.*` below) \
+         and of the S-N curve (`[model.pipe.fatigue]`), and the study's sections are in the \
+         [user guide](user-guide.md#problem-files).\n\n\
          ## The string, the mesh, the operating point and the run\n\n",
     );
     out.push_str(HEADER);
@@ -71,9 +78,19 @@ pub fn markdown() -> String {
         ),
     ];
     for (table, title, entries) in laws {
+        let note = if table == "model.wall" {
+            " Under `stiffness_per = \"length\"` (the default) a law's stiffnesses and damping \
+             are per metre of string (a Winkler foundation: the `N/m` of `stiffness` is N/m per \
+             metre of string, and the node's share is its tributary length); under \
+             `stiffness_per = \"node\"`, the paper's reading, per node. `sign_smoothing` smooths \
+             the paper's friction only (`friction_law = \"paper\"`; refused with the Coulomb \
+             friction, smoothed by `slip_smoothing`)."
+        } else {
+            ""
+        };
         let _ = write!(
             out,
-            "\n## {title}: `[{table}] law`\n\nThe first is the default.\n"
+            "\n## {title}: `[{table}] law`\n\nThe first is the default.{note}\n"
         );
         for (name, doc, parameters) in entries {
             let _ = write!(out, "\n### `law = \"{name}\"`\n\n{doc}\n\n{HEADER}");

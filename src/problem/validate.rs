@@ -591,6 +591,19 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         wall_section.parameters.remove("friction_law"),
         wall_section.parameters.remove("slip_smoothing"),
     )?;
+    // The laws' `sign_smoothing` smooths the paper's torque-only friction: under the Coulomb
+    // friction it would be read and change nothing.
+    if matches!(wall_friction, WallFriction::Coulomb { .. })
+        && wall_section.parameters.contains_key("sign_smoothing")
+    {
+        c.record(
+            "model.wall.sign_smoothing",
+            "belongs to friction_law = \"paper\" (the paper's torque-only friction, smoothed in \
+             the spin); the Coulomb friction (the default friction_law) is smoothed by \
+             slip_smoothing: remove it, or set friction_law = \"paper\""
+                .to_string(),
+        );
+    }
     let wall_stiffness_per = wall_stiffness_per(c, wall_section.parameters.remove("stiffness_per"));
     let wall = chosen_law(
         c,

@@ -83,6 +83,13 @@ pub fn plot_stress_envelope(
     let (stress_unit, stress) = units.unit_and_factor(Shown::Stress);
     let (force_unit, force) = units.unit_and_factor(Shown::Force);
     let (at_unit, at) = units.unit_and_factor(Shown::Position);
+    // A string of sections: each section's own sinusoidal buckling load, a step along the
+    // string; one section: one load, a level line.
+    let loads = e.sinusoidal_buckling_n();
+    let per_section_buckling = (!e.sections.is_empty() && !loads.is_empty()).then_some((
+        loads.as_slice(),
+        "sinusoidal buckling load of each section (Dawson & Paslay)",
+    ));
     let buckling = e.buckling.map(|b| {
         (
             b.sinusoidal * force,
@@ -113,8 +120,10 @@ pub fn plot_stress_envelope(
             spans.join(", ")
         )
     };
-    // The abscissa in its unit (metric: the positions themselves).
+    // The abscissa in its unit (metric: the positions themselves); the boundaries between
+    // sections marked in every panel.
     let x: Vec<f64> = e.position_m.iter().map(|x| at * x).collect();
+    let marks: Vec<f64> = e.sections.iter().skip(1).map(|s| at * s.from_m).collect();
     plot_panels_over(
         path,
         &format!(
@@ -130,6 +139,7 @@ pub fn plot_stress_envelope(
                 y: &e.max_von_mises_pa,
                 scale: stress,
                 reference: None,
+                reference_curve: None,
             },
             Panel {
                 caption: "Time mean of the von Mises stress",
@@ -137,6 +147,7 @@ pub fn plot_stress_envelope(
                 y: &e.mean_von_mises_pa,
                 scale: stress,
                 reference: None,
+                reference_curve: None,
             },
             Panel {
                 caption: "Largest compression",
@@ -144,6 +155,7 @@ pub fn plot_stress_envelope(
                 y: &e.max_compression_n,
                 scale: force,
                 reference: buckling.as_ref().map(|(v, l)| (*v, l.as_str())),
+                reference_curve: per_section_buckling,
             },
             Panel {
                 caption: &fatigue_caption,
@@ -151,8 +163,10 @@ pub fn plot_stress_envelope(
                 y: &e.fatigue_damage_per_h,
                 scale: 1.0,
                 reference: None,
+                reference_curve: None,
             },
         ],
+        &marks,
     )
 }
 
@@ -182,6 +196,67 @@ mod tests {
         // One section: no such column.
         let one = StressEnvelope::new(3, 2.0, 0.0);
         assert!(!envelope_csv(&one).contains("section"));
+    }
+
+    #[test]
+    fn a_string_of_sections_is_plotted_against_each_section_s_own_buckling_load() {
+        let p = crate::problem::Problem::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/bha_example.toml"
+        ))
+        .unwrap();
+        let layout = crate::fem::ElementLayout::of(&p.model, p.mesh.elements);
+        let e = StressEnvelope::for_string(&p.model, &layout, 0.0);
+        let loads = e.sinusoidal_buckling_n();
+        assert_eq!(loads.len(), p.mesh.elements);
+        // Dawson & Paslay by hand, F = 2 √(E I w / r), w the buoyed weight per metre (steel
+        // 7900, mud 1200 kg/m³ inside and out), r = R_bh − R_ext: the heavy-weight pipe's
+        // (element 27 on; 5.5 x 3.375 in) and the collars' (element 52 on; 6.75 x 2.8125 in).
+        let by_hand = |od_in: f64, id_in: f64| {
+            let (ro, ri) = (0.0254 * od_in / 2.0, 0.0254 * id_in / 2.0);
+            let pi = std::f64::consts::PI;
+            let (a, ai, ao) = (pi * (ro * ro - ri * ri), pi * ri * ri, pi * ro * ro);
+            let w = (7900.0 * a + 1200.0 * ai - 1200.0 * ao) * 9.81;
+            let i = pi / 4.0 * (ro.powi(4) - ri.powi(4));
+            2.0 * (203e9 * i * w / (0.108 - ro)).sqrt()
+        };
+        for (e_index, od, id) in [(27, 5.5, 3.375), (60, 6.75, 2.8125)] {
+            let want = by_hand(od, id);
+            assert!(
+                (loads[e_index] / want - 1.0).abs() < 1e-9,
+                "element {e_index}: {} N against {want} N",
+                loads[e_index]
+            );
+        }
+        assert!(
+            loads[27] < loads[60],
+            "the collars buckle later than the HWDP"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let op = OperatingPoint {
+            omega: 6.0,
+            v0: 1e-3,
+            wob: 0.0,
+        };
+        let path = dir.path().join("e.svg");
+        plot_stress_envelope(&e, &op, UnitSystem::Metric, &path).unwrap();
+        let svg = std::fs::read_to_string(&path).unwrap();
+        assert!(svg.contains("sinusoidal buckling load of each section"));
+        // The boundaries, dashed in each of the four panels: more dashed lines than without.
+        let one = StressEnvelope::for_string(&p.model, &layout, 0.0);
+        let mut plain = one.clone();
+        plain.sections.clear();
+        let plain_path = dir.path().join("plain.svg");
+        plot_stress_envelope(&plain, &op, UnitSystem::Metric, &plain_path).unwrap();
+        let plain_svg = std::fs::read_to_string(&plain_path).unwrap();
+        assert!(!plain_svg.contains("of each section"));
+        let lines = |s: &str| s.matches("<polyline").count() + s.matches("<line").count();
+        assert!(
+            lines(&svg) > lines(&plain_svg) + 4 * 4,
+            "{} vs {}",
+            lines(&svg),
+            lines(&plain_svg)
+        );
     }
 
     #[test]

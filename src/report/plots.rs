@@ -94,6 +94,10 @@ pub struct Panel<'a> {
     /// Optional horizontal reference line (value in the units of `y_label`, legend text), drawn
     /// dashed and always inside the y range.
     pub reference: Option<(f64, &'a str)>,
+    /// Optional reference curve, one value per abscissa in the series' units (scaled like `y`),
+    /// with its legend text: a limit that changes along the abscissa (the buckling load of each
+    /// section of a string), drawn in red and always inside the y range.
+    pub reference_curve: Option<(&'a [f64], &'a str)>,
 }
 
 /// Bit displacement u(L) \[m or ft\] and bit velocity u̇(L) \[m/h or ft/h\] against t \[s\]
@@ -216,6 +220,7 @@ fn plot_bit_figure(
                 y: y(series),
                 scale: *scale,
                 reference: *reference,
+                reference_curve: None,
             },
         )
         .collect();
@@ -277,6 +282,7 @@ pub fn plot_probe_radial(
             y: &series.probe_radial[probe_index],
             scale: size_factor,
             reference: (wall.is_finite() && wall > 0.0).then_some((wall, wall_label.as_str())),
+            reference_curve: None,
         }],
     )
 }
@@ -289,7 +295,7 @@ pub fn plot_panels(
     t: &[f64],
     panels: &[Panel<'_>],
 ) -> Result<(), PlotError> {
-    plot_panels_over(path, title, t, "t [s]", panels)
+    plot_panels_over(path, title, t, "t [s]", panels, &[])
 }
 
 /// [`plot_panels`] against any abscissa `x` (e.g. the position along the string), labelled
@@ -300,8 +306,12 @@ pub fn plot_panels_over(
     t: &[f64],
     x_label: &str,
     panels: &[Panel<'_>],
+    marks: &[f64],
 ) -> Result<(), PlotError> {
-    if let Some(p) = panels.iter().find(|p| p.y.len() != t.len()) {
+    let lengths = |p: &Panel<'_>| {
+        p.y.len() != t.len() || p.reference_curve.is_some_and(|(c, _)| c.len() != t.len())
+    };
+    if let Some(p) = panels.iter().find(|p| lengths(p)) {
         return Err(PlotError::LengthMismatch {
             path: path.to_owned(),
             channel: p.y_label.to_owned(),
@@ -309,7 +319,7 @@ pub fn plot_panels_over(
             t_len: t.len(),
         });
     }
-    let svg = render_svg(title, t, x_label, panels).map_err(|message| PlotError::Draw {
+    let svg = render_svg(title, t, x_label, panels, marks).map_err(|message| PlotError::Draw {
         path: path.to_owned(),
         message,
     })?;
@@ -324,13 +334,14 @@ fn render_svg(
     t: &[f64],
     x_label: &str,
     panels: &[Panel<'_>],
+    marks: &[f64],
 ) -> Result<String, String> {
     let rows = u32::try_from(panels.len().max(1)).unwrap_or(u32::MAX);
     let height = TITLE_HEIGHT.saturating_add(PANEL_HEIGHT.saturating_mul(rows));
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
-        draw_figure(&root, title, t, x_label, panels).map_err(|e| e.to_string())?;
+        draw_figure(&root, title, t, x_label, panels, marks).map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(svg)
@@ -344,29 +355,41 @@ fn draw_figure(
     t: &[f64],
     x_label: &str,
     panels: &[Panel<'_>],
+    marks: &[f64],
 ) -> DrawResult {
     let body = titled_figure(root, title)?;
     if panels.is_empty() {
         return Ok(());
     }
     for (area, panel) in body.split_evenly((panels.len(), 1)).iter().zip(panels) {
-        draw_panel(area, t, x_label, panel)?;
+        draw_panel(area, t, x_label, panel, marks)?;
     }
     Ok(())
 }
 
+/// `panel` over `t`, with a dotted grey vertical line at each abscissa of `marks` (the section
+/// boundaries of a string) inside the range.
 fn draw_panel(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     t: &[f64],
     x_label: &str,
     panel: &Panel<'_>,
+    marks: &[f64],
 ) -> DrawResult {
     let mut points = decimate_min_max(t, panel.y, PLOT_BUCKETS);
     points.iter_mut().for_each(|p| p.1 *= panel.scale);
     let (t_lo, t_hi) = axis_range(points.iter().map(|p| p.0), 0.0);
     let reference = panel.reference.filter(|(v, _)| v.is_finite());
+    let curve: Vec<(f64, f64)> = panel.reference_curve.map_or(Vec::new(), |(c, _)| {
+        (t.iter().zip(c))
+            .filter(|(_, v)| v.is_finite())
+            .map(|(&x, &v)| (x, v * panel.scale))
+            .collect()
+    });
     let (y_lo, y_hi) = axis_range(
-        points.iter().map(|p| p.1).chain(reference.map(|(v, _)| v)),
+        (points.iter().map(|p| p.1))
+            .chain(reference.map(|(v, _)| v))
+            .chain(curve.iter().map(|p| p.1)),
         Y_PAD,
     );
 
@@ -378,7 +401,18 @@ fn draw_panel(
         TIME_LAYOUT,
     )?;
     chart.draw_series(LineSeries::new(points, BLUE.stroke_width(1)))?;
-
+    let grey = BLACK.mix(0.35).stroke_width(1);
+    for &x in marks.iter().filter(|&&x| x > t_lo && x < t_hi) {
+        chart.draw_series(DashedLineSeries::new([(x, y_lo), (x, y_hi)], 3, 3, grey))?;
+    }
+    if let (false, Some((_, label))) = (curve.is_empty(), panel.reference_curve) {
+        let style = RED.stroke_width(2);
+        chart
+            .draw_series(LineSeries::new(curve, style))?
+            .label(label)
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], style));
+        draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
+    }
     if let Some((value, label)) = reference {
         let style = RED.stroke_width(2);
         draw_level(&mut chart, (t_lo, t_hi), value, style)?

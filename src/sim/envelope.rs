@@ -217,6 +217,20 @@ impl StressEnvelope {
         }
     }
 
+    /// The sinusoidal buckling load of each element's section, N, top to bit (Dawson & Paslay
+    /// 1984, [`BucklingLoads::sinusoidal`]): a step along a string of sections (each section's
+    /// own weight and stiffness); empty without buckling loads.
+    pub fn sinusoidal_buckling_n(&self) -> Vec<f64> {
+        let loads =
+            |e: usize| (self.buckling_by_kind.get(self.kind_of[e]).copied()).or(self.buckling);
+        if self.kind_of.is_empty() || loads(0).is_none() {
+            return Vec::new();
+        }
+        (0..self.kind_of.len())
+            .map(|e| loads(e).map_or(f64::NAN, |b| b.sinusoidal))
+            .collect()
+    }
+
     /// The name of the section element `e` belongs to (`None` for a string of one section).
     pub fn section_of(&self, e: usize) -> Option<&str> {
         // A string of sections has one kind of element per section, in order.

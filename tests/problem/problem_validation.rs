@@ -223,7 +223,18 @@ fn omitted_optional_keys_take_the_documented_defaults() {
 fn optional_keys_when_given_are_read() {
     let p = accepted(&set("simulation", "settling_time", "\"10 s\""));
     assert_eq!(p.simulation.settling_time, 10.0);
-    let p = accepted(&insert("model.wall", "sign_smoothing", "\"0.6 rpm\""));
+    // The paper's friction is smoothed by sign_smoothing; under the Coulomb friction (the
+    // default) it would change nothing and is refused.
+    let with_sign = insert("model.wall", "sign_smoothing", "\"0.6 rpm\"");
+    refused(
+        &with_sign,
+        "model.wall.sign_smoothing",
+        &["belongs to friction_law = \"paper\"", "slip_smoothing"],
+    );
+    let p = accepted(&with_sign.replace(
+        "sign_smoothing = \"0.6 rpm\"",
+        "sign_smoothing = \"0.6 rpm\"\nfriction_law = \"paper\"",
+    ));
     assert_relative_eq!(
         p.model.wall.get("sign_smoothing").unwrap(),
         0.02 * PI,
