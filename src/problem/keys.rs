@@ -165,7 +165,7 @@ use crate::model::{
 /// and bit–rock laws are in each law's own table ([`crate::model::Law::parameters`]). Every
 /// range is closed and its lower end excludes the values that make the model meaningless: each
 /// says why its ends are where they are (the comments: what a value outside did).
-pub static KEYS: [Key; 31] = [
+pub static KEYS: [Key; 37] = [
     // Lower ends: a string of a few nanometres (or a pipe 2 nm across) is a typo, and the
     // element shape functions and the mass matrix lose their meaning long before 0 (a 1e-300 m
     // string panicked in the shape functions; a 1e-300 m radius made the mass matrix singular,
@@ -312,6 +312,80 @@ pub static KEYS: [Key; 31] = [
              \"G-105\", \"S-135\"): the reference of von_mises_safety_factor",
         ),
         Omitted::Else("none: the metrics relative to it are not computed"),
+    ),
+    // The S-N curve of the fatigue damage, `[model.pipe.fatigue]`: by name (`sn_curve`, a word)
+    // or by these parameters; every published steel curve lies within the ranges.
+    plain(
+        spec(
+            "model.pipe.fatigue.log_a1",
+            Dimensionless,
+            closed(5.0, 40.0, "every published steel curve lies within it"),
+            None,
+            12.164,
+            "log₁₀ ā₁ of the S-N curve N = ā₁ Δσ^(−m₁), Δσ in MPa (DNV-RP-C203)",
+        ),
+        Omitted::Else("required with m1 when the curve is given by its parameters"),
+    ),
+    plain(
+        spec(
+            "model.pipe.fatigue.m1",
+            Dimensionless,
+            closed(1.0, 30.0, "the inverse slopes of published curves are 3 to 5"),
+            None,
+            3.0,
+            "the inverse slope m₁ of the curve's first branch",
+        ),
+        Omitted::Else("required with log_a1 when the curve is given by its parameters"),
+    ),
+    plain(
+        spec(
+            "model.pipe.fatigue.log_a2",
+            Dimensionless,
+            closed(5.0, 40.0, "every published steel curve lies within it"),
+            None,
+            15.606,
+            "log₁₀ ā₂ of the branch beyond the knee",
+        ),
+        Omitted::Else("none: one branch (with m2 or not at all)"),
+    ),
+    plain(
+        spec(
+            "model.pipe.fatigue.m2",
+            Dimensionless,
+            closed(1.0, 30.0, "the inverse slopes of published curves are 3 to 5"),
+            None,
+            5.0,
+            "the inverse slope m₂ of the branch beyond the knee, greater than m1",
+        ),
+        Omitted::Else("none: one branch (with log_a2 or not at all)"),
+    ),
+    plain(
+        spec(
+            "model.pipe.fatigue.endurance_limit",
+            Pressure,
+            closed(
+                0.0,
+                2e9,
+                "0 (no cut-off, DNV's variable-amplitude reading) to beyond any steel's strength",
+            ),
+            None,
+            52.63e6,
+            "the stress range below which cycles do no damage",
+        ),
+        Omitted::Else(
+            "the named curve's fatigue limit at 1e7 cycles, or the range at 1e7 cycles of a curve given by its parameters",
+        ),
+    ),
+    plain(
+        spec(
+            "model.pipe.fatigue.stress_concentration",
+            Dimensionless,
+            closed(1.0, 20.0, "a stress concentration factor; a tool joint's is 1.5 to 3"),
+            Some(1.0),
+            1.0,
+            "the factor every stress range is multiplied by",
+        ),
+        Omitted::Default,
     ),
     key(PIPE_DAMPING, DYNAMIC, |p| p.model.damping),
     key(PIPE_STIFFNESS_DAMPING, DYNAMIC, |p| {

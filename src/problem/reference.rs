@@ -50,8 +50,8 @@ pub fn markdown() -> String {
          (`model.wall.law`, `friction_law`, `stiffness_per`, `model.bit.law`, \
          `operating_point.top`, `simulation.start`, `simulation.probes`, `mesh.reduced_modes`, \
          `[mesh.basis]`, `name`, `description`), the tables of a string of sections \
-         (`[[model.section]]`: each section's sizes take the ranges of `model.pipe.*` below) \
-         and of the S-N curve (`[model.pipe.fatigue]`), and the study's sections are in the \
+         (`[[model.section]]`: each section's sizes take the ranges of `model.pipe.*` below), \
+         the S-N curve's name (`model.pipe.fatigue.sn_curve`) and the study's sections are in the \
          [user guide](user-guide.md#problem-files).\n\n\
          ## The string, the mesh, the operating point and the run\n\n",
     );

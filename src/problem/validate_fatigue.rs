@@ -9,18 +9,9 @@
 
 use super::check::Checker;
 use super::schema::{FatigueSection, RawQuantity};
-use super::{Dimension, ProblemError};
+use super::ProblemError;
 use crate::fatigue::{DNV_AIR, SnCurve};
 use crate::units::show;
-
-/// Admissible log₁₀ ā (stress range in MPa): every published steel curve is within it.
-const LOG_A: (f64, f64) = (5.0, 40.0);
-/// Admissible inverse slopes m.
-const SLOPE: (f64, f64) = (1.0, 30.0);
-/// Largest endurance limit accepted, Pa: beyond the ultimate strength of any steel.
-const MAX_ENDURANCE: f64 = 2e9;
-/// Largest stress concentration factor accepted.
-const MAX_SCF: f64 = 20.0;
 
 const KEY: &str = "model.pipe.fatigue";
 
@@ -61,61 +52,36 @@ pub(super) fn fatigue(c: &Checker, f: Option<&FatigueSection>) -> Result<SnCurve
         None if explicit.iter().any(|(_, set)| *set) => custom(c, f)?,
         None => SnCurve::default(),
     };
+    // The ranges are the key table's (super::keys::KEYS).
     if let Some(raw) = &f.endurance_limit {
-        let key = format!("{KEY}.endurance_limit");
-        let v = number(c, &key, raw, Dimension::Pressure);
-        curve.endurance_limit = c.check(
-            &key,
-            v,
-            (0.0..=MAX_ENDURANCE).contains(&v),
-            &format!(
-                "a stress range in [0, {} MPa] (0: no cut-off)",
-                MAX_ENDURANCE / 1e6
-            ),
-            Dimension::Pressure,
-        )?;
+        curve.endurance_limit = c.key_value("model.pipe.fatigue.endurance_limit", Some(raw))?;
     }
-    if let Some(raw) = &f.stress_concentration {
-        let key = format!("{KEY}.stress_concentration");
-        let v = number(c, &key, raw, Dimension::Dimensionless);
-        curve.stress_concentration = c.check(
-            &key,
-            v,
-            (1.0..=MAX_SCF).contains(&v),
-            &format!("a factor in [1, {MAX_SCF}]"),
-            Dimension::Dimensionless,
-        )?;
-    }
+    curve.stress_concentration = c.key_value(
+        "model.pipe.fatigue.stress_concentration",
+        f.stress_concentration.as_ref(),
+    )?;
     Ok(curve)
 }
 
 /// A curve given by its parameters: `log_a1` and `m1` together, `log_a2` and `m2` together, the
 /// second branch flatter than the first (m₂ > m₁).
 fn custom(c: &Checker, f: &FatigueSection) -> Result<SnCurve, ProblemError> {
-    let read = |name: &str, raw: &Option<RawQuantity>, (lo, hi): (f64, f64)| {
+    // The ranges are the key table's (super::keys::KEYS).
+    let read = |name: &str, raw: &Option<RawQuantity>| {
         let key = format!("{KEY}.{name}");
         match raw {
             None => Err(c.fail(
                 &key,
                 "is required when the curve is given by its parameters (log_a1 and m1, and log_a2 with m2)".into(),
             )),
-            Some(raw) => {
-                let v = number(c, &key, raw, Dimension::Dimensionless);
-                c.check(
-                    &key,
-                    v,
-                    (lo..=hi).contains(&v),
-                    &format!("a number in [{lo}, {hi}]"),
-                    Dimension::Dimensionless,
-                )
-            }
+            Some(raw) => Ok(c.key_value(&key, Some(raw)).unwrap_or(f64::NAN)),
         }
     };
-    let log_a1 = read("log_a1", &f.log_a1, LOG_A)?;
-    let m1 = read("m1", &f.m1, SLOPE)?;
+    let log_a1 = read("log_a1", &f.log_a1)?;
+    let m1 = read("m1", &f.m1)?;
     let second = if f.log_a2.is_some() || f.m2.is_some() {
-        let log_a2 = read("log_a2", &f.log_a2, LOG_A)?;
-        let m2 = read("m2", &f.m2, SLOPE)?;
+        let log_a2 = read("log_a2", &f.log_a2)?;
+        let m2 = read("m2", &f.m2)?;
         if m2 <= m1 {
             return Err(c.fail(
                 &format!("{KEY}.m2"),
@@ -144,9 +110,4 @@ fn custom(c: &Checker, f: &FatigueSection) -> Result<SnCurve, ProblemError> {
         curve.range_at(1e7)
     };
     Ok(curve)
-}
-
-/// A finite number (a plain number, or a string with a unit of `dim`); NaN, recorded, if not.
-fn number(c: &Checker, key: &str, raw: &RawQuantity, dim: Dimension) -> f64 {
-    c.value(key, raw, dim).unwrap_or(f64::NAN)
 }
