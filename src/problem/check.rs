@@ -147,7 +147,7 @@ impl<'a> Checker<'a> {
         dim: Dimension,
     ) -> Result<f64, ProblemError> {
         let v = self.finite(key, raw, dim);
-        Ok(self.admissible(key, v, dim))
+        Ok(self.admissible(key, v, dim, raw))
     }
 
     /// A finite value in SI units under `key`, within the admissible range of `range_key`: a
@@ -161,7 +161,7 @@ impl<'a> Checker<'a> {
         dim: Dimension,
     ) -> f64 {
         let v = self.finite(key, raw, dim);
-        self.admissible_as(key, range_key, v, dim)
+        self.admissible_as(key, range_key, v, dim, raw)
     }
 
     /// A finite value of a declared parameter, in SI units, within the parameter's range.
@@ -177,10 +177,9 @@ impl<'a> Checker<'a> {
             Ok(self.record(
                 spec.key,
                 format!(
-                    "must be {}, got {} {}",
+                    "must be {}, got {}",
                     spec.range.describe(spec.dimension),
-                    show(v),
-                    spec.dimension.si_unit()
+                    got(v, spec.dimension.si_unit(), 1.0, raw)
                 ),
             ))
         }
@@ -227,13 +226,21 @@ impl<'a> Checker<'a> {
         }
     }
 
-    /// `v` if it lies in the admissible range of `key` (if the key has one).
-    fn admissible(&self, key: &str, v: f64, dim: Dimension) -> f64 {
-        self.admissible_as(key, key, v, dim)
+    /// `v` (read from `raw`) if it lies in the admissible range of `key` (if the key has one).
+    fn admissible(&self, key: &str, v: f64, dim: Dimension, raw: &RawQuantity) -> f64 {
+        self.admissible_as(key, key, v, dim, raw)
     }
 
-    /// `v` if it lies in the admissible range of `range_key` (if it has one); refused under `key`.
-    fn admissible_as(&self, key: &str, range_key: &str, v: f64, dim: Dimension) -> f64 {
+    /// `v` (read from `raw`) if it lies in the admissible range of `range_key` (if it has one);
+    /// refused under `key`.
+    fn admissible_as(
+        &self,
+        key: &str,
+        range_key: &str,
+        v: f64,
+        dim: Dimension,
+        raw: &RawQuantity,
+    ) -> f64 {
         match super::keys::range_of(range_key) {
             Some(r) if !v.is_nan() && !r.contains(v) => {
                 let (unit, factor) = shown_in(range_key, dim);
@@ -245,9 +252,9 @@ impl<'a> Checker<'a> {
                 self.record(
                     key,
                     format!(
-                        "must be {}{of}, got {} {unit}",
+                        "must be {}{of}, got {}",
                         r.describe_in(unit, factor),
-                        show(in_unit(v, factor))
+                        got(v, unit, factor, raw)
                     ),
                 )
             }
@@ -300,7 +307,7 @@ impl<'a> Checker<'a> {
         let sign = if strict { "> 0" } else { ">= 0" };
         let sign_ok = if strict { v > 0.0 } else { v >= 0.0 };
         if v.is_nan() || sign_ok {
-            return self.admissible(key, v, dim);
+            return self.admissible(key, v, dim, raw);
         }
         let (unit, factor) = shown_in(key, dim);
         let allowed = match super::keys::range_of(key) {
@@ -313,7 +320,7 @@ impl<'a> Checker<'a> {
         };
         self.record(
             key,
-            format!("must be {allowed}, got {} {unit}", show(in_unit(v, factor))),
+            format!("must be {allowed}, got {}", got(v, unit, factor, raw)),
         )
     }
 
@@ -344,10 +351,28 @@ pub(super) fn shown_in(key: &str, dim: Dimension) -> (&'static str, f64) {
 /// `v` (SI) in a unit of size `factor`, to 10 significant digits: −1e-3 m/s is −3.6 m/h, not
 /// −3.5999999999999996.
 fn in_unit(v: f64, factor: f64) -> f64 {
-    if factor == 1.0 || !v.is_finite() {
+    if !v.is_finite() {
         return v;
     }
     format!("{:.9e}", v / factor).parse().unwrap_or(v / factor)
+}
+
+/// "4448221.615 N (written \"1000 klbf\")": a refused value `v` (SI) in the unit of size
+/// `factor` a message shows, and as the file wrote it when that was in another unit (the number
+/// shown is not the one written).
+fn got(v: f64, unit: &str, factor: f64, raw: &RawQuantity) -> String {
+    let number = show(in_unit(v, factor));
+    let shown = if unit.is_empty() {
+        number.clone()
+    } else {
+        format!("{number} {unit}")
+    };
+    match raw {
+        RawQuantity::Text(t) if !t.trim().starts_with(number.as_str()) => {
+            format!("{shown} (written {:?})", t.trim())
+        }
+        _ => shown,
+    }
 }
 
 /// A minimum yield strength under `key`: an API 5DP grade (`"S-135"`) or a pressure.

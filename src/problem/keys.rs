@@ -330,7 +330,11 @@ pub static KEYS: [Key; 37] = [
         spec(
             "model.pipe.fatigue.m1",
             Dimensionless,
-            closed(1.0, 30.0, "the inverse slopes of published curves are 3 to 5"),
+            closed(
+                1.0,
+                30.0,
+                "the inverse slopes of published curves are 3 to 5",
+            ),
             None,
             3.0,
             "the inverse slope m₁ of the curve's first branch",
@@ -352,7 +356,11 @@ pub static KEYS: [Key; 37] = [
         spec(
             "model.pipe.fatigue.m2",
             Dimensionless,
-            closed(1.0, 30.0, "the inverse slopes of published curves are 3 to 5"),
+            closed(
+                1.0,
+                30.0,
+                "the inverse slopes of published curves are 3 to 5",
+            ),
             None,
             5.0,
             "the inverse slope m₂ of the branch beyond the knee, greater than m1",
@@ -380,7 +388,11 @@ pub static KEYS: [Key; 37] = [
         spec(
             "model.pipe.fatigue.stress_concentration",
             Dimensionless,
-            closed(1.0, 20.0, "a stress concentration factor; a tool joint's is 1.5 to 3"),
+            closed(
+                1.0,
+                20.0,
+                "a stress concentration factor; a tool joint's is 1.5 to 3",
+            ),
             Some(1.0),
             1.0,
             "the factor every stress range is multiplied by",

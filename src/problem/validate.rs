@@ -221,6 +221,14 @@ fn plain_shape(key: String, message: String, text: &str) -> (String, String) {
             ),
         );
     }
+    // A count with a range in the key table says it ("a whole number in [1, 2000] (…)").
+    let expected_words = match super::keys::range_of(&key) {
+        Some(r) if r.integer && expected_words == "an integer" => format!(
+            "an integer {}",
+            r.describe_in("", 1.0).trim_start_matches("a whole number ")
+        ),
+        _ => expected_words.to_string(),
+    };
     (key, format!("must be {expected_words}, got {got}"))
 }
 

@@ -7,9 +7,9 @@
 //! fatigue limit at 10⁷ cycles, or the range at 10⁷ cycles on a curve given by its parameters;
 //! 0: no cut-off), and `stress_concentration` (default 1).
 
+use super::ProblemError;
 use super::check::Checker;
 use super::schema::{FatigueSection, RawQuantity};
-use super::ProblemError;
 use crate::fatigue::{DNV_AIR, SnCurve};
 use crate::units::show;
 
