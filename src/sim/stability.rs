@@ -29,9 +29,12 @@ use nalgebra::{DMatrix, DVector};
 pub const NEUTRAL: f64 = 1e-6;
 
 /// The largest number of unknowns whose stability is computed: the dense companion matrix has
-/// twice as many rows and its eigenvalues cost O(rows³) (600 unknowns: a 1200² matrix, a few
-/// seconds; a reduced basis has 50–200). An unreduced model of a long mesh is left out (`None`).
-pub const MAX_UNKNOWNS: usize = 600;
+/// twice as many rows and its eigenvalues cost O(rows³) (measured, one core: 622 unknowns 3 s,
+/// 978 17 s, 1246 40 s; a reduced basis has 50–200). Large enough for the unreduced model of a
+/// field well on a mesh twice its default (`simulate --unreduced`: the reference a reduced
+/// basis' growth rate is checked against, docs/model.md "Linear stability of steady
+/// drilling"); a longer mesh is left out (`None`).
+pub const MAX_UNKNOWNS: usize = 1300;
 
 /// The dominant eigenvalue of steady drilling at an operating point.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

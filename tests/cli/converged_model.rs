@@ -291,3 +291,31 @@ fn simulate_reports_the_bit_damping_ratio_and_warns_above_one() {
         assert_eq!(stderr.contains("bit_damping_ratio > 1"), above, "{stderr}");
     }
 }
+
+#[test]
+fn an_unreduced_field_well_reports_its_own_steady_state_eigenvalue() {
+    // 622 unknowns, above the old 600 limit: the finite-element model's growth rate is the
+    // reference a reduced basis is checked against (docs/model.md, "Linear stability").
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("unreduced");
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/field/well_1km.toml");
+    let (ok, _, stderr) = drillopt(&[
+        "simulate",
+        file,
+        "--unreduced",
+        "--duration",
+        "0.002",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let s = summary(&out);
+    assert_eq!(s["model"], "unreduced");
+    let steady = &s["steady_state"];
+    let (growth, hz) = (
+        steady["growth_rate_per_s"].as_f64().expect("a growth rate"),
+        steady["frequency_hz"].as_f64().expect("a frequency"),
+    );
+    assert!(growth.is_finite() && hz > 0.0, "{steady}");
+}

@@ -533,7 +533,10 @@ fn a_value_of_the_wrong_type_is_refused() {
     refused(
         &set("mesh", "elements", "105.0"),
         "mesh.elements",
-        &["must be an integer in [1, 2000]", "got floating point `105.0`"],
+        &[
+            "must be an integer in [1, 2000]",
+            "got floating point `105.0`",
+        ],
     );
     refused(
         &set("model.pipe", "poisson_ratio", "true"),
