@@ -104,6 +104,7 @@ pub fn run(args: &MapArgs, units: UnitSystem) -> anyhow::Result<()> {
         "best grid point",
         "no feasible grid point",
         &t,
+        &args.problem,
     );
     println!("  results in {}", out.display());
     Ok(())

@@ -106,7 +106,15 @@ pub fn solve_and_report(
     report::write_evaluations_csv(out, problem, &ev.samples, &outcome.evaluations, units)?;
     super::study_plots::solve_plots(problem, out, &outcome, units)?;
     if print {
-        print_summary(problem, out, &outcome, &ev, explore_ev.as_ref(), units);
+        print_summary(
+            problem,
+            problem_file,
+            out,
+            &outcome,
+            &ev,
+            explore_ev.as_ref(),
+            units,
+        );
         if let Some(c) = &check {
             print_check(c, units);
         }
@@ -116,6 +124,7 @@ pub fn solve_and_report(
 
 fn print_summary(
     problem: &Problem,
+    problem_file: &Path,
     out: &Path,
     outcome: &SolveOutcome,
     ev: &crate::study::RobustEvaluator,
@@ -198,6 +207,7 @@ fn print_summary(
             &label,
             "no feasible point was found",
             &t,
+            problem_file,
         );
         held_by();
         println!("  results in {}", out.display());
@@ -208,6 +218,7 @@ fn print_summary(
         &format!("{label} (full fidelity)"),
         "no confirmed candidate is feasible at full fidelity",
         &t,
+        problem_file,
     );
     held_by();
     match outcome.best.as_ref().map(|b| c.explore_of(b)) {

@@ -434,6 +434,17 @@ pub fn print_fidelity_table(points: &[PointEvaluation], t: &TableUnits) {
     }
 }
 
+/// `word` as one shell word: as it is when it holds only characters no shell reads specially,
+/// else in single quotes (a quote inside written '\\'').
+fn shell_word(word: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "/._-+,:=@%".contains(c);
+    if !word.is_empty() && word.chars().all(plain) {
+        word.to_string()
+    } else {
+        format!("'{}'", word.replace('\'', "'\\''"))
+    }
+}
+
 /// `--point OMEGA,SET` of `op` with the digits that reproduce it: the evaluator snaps every
 /// point to 12 significant digits in rpm, m/h or kN ([`OperatingPoint::canonical`]), so these
 /// digits give the same bits, the same cache entry and the same score (a point printed to one
@@ -449,8 +460,15 @@ pub fn point_flag(op: &crate::model::OperatingPoint) -> String {
     )
 }
 
-/// The best point's line, or `none` when there is none.
-pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str, t: &TableUnits) {
+/// The best point's line, or `none` when there is none, and the `compare` command line that
+/// evaluates it again (`problem`: the file the study read).
+pub fn print_best(
+    best: Option<&PointEvaluation>,
+    label: &str,
+    none: &str,
+    t: &TableUnits,
+    problem: &std::path::Path,
+) {
     let (score_unit, score) = t.score;
     let score_unit = if score_unit.is_empty() {
         String::new()
@@ -473,8 +491,9 @@ pub fn print_best(best: Option<&PointEvaluation>, label: &str, none: &str, t: &T
     }
     if let Some(b) = best {
         println!(
-            "  the same point again: drillopt compare PROBLEM {} (the rounded figures above are \
+            "  the same point again: drillopt compare {} {} (the rounded figures above are \
              another point)",
+            shell_word(&problem.display().to_string()),
             point_flag(&b.op())
         );
     }
@@ -652,4 +671,18 @@ pub(super) fn table_header(kind: crate::model::SetPoint, t: &TableUnits) -> Stri
         format!("ROP {}", t.unit("m/h")),
         format!("WOB {}", t.unit("kN")),
     )
+}
+
+#[cfg(test)]
+mod shell_word_tests {
+    #[test]
+    fn a_path_is_pasted_as_one_shell_word() {
+        assert_eq!(
+            super::shell_word("problems/field/well_1km.toml"),
+            "problems/field/well_1km.toml"
+        );
+        assert_eq!(super::shell_word("my well.toml"), "'my well.toml'");
+        assert_eq!(super::shell_word("it's.toml"), "'it'\\''s.toml'");
+        assert_eq!(super::shell_word(""), "''");
+    }
 }

@@ -58,6 +58,7 @@ pub fn run(args: &VerifyArgs, units: UnitSystem) -> anyhow::Result<super::Outcom
         op,
         duration,
         settling: problem.simulation.settling_for(duration),
+        stability_reference: true,
     };
     let mut refinements = verify::refinements(&problem);
     if args.unreduced {
@@ -237,6 +238,12 @@ fn print_table(
         ),
         None => {}
     }
+    if let (Some(basis), Some(fe)) = (r.steady_state, r.steady_state_unreduced) {
+        println!(
+            "{}",
+            stability_reference(basis, fe, r.steady_state_unreduced_refined_mesh)
+        );
+    }
     if !r.smoothing_keys.is_empty() {
         println!(
             "smoothing: {} divided by {}",
@@ -294,5 +301,97 @@ fn print_table(
             run.steps,
             run.wall_time_s
         );
+    }
+}
+
+/// Whether two dominant eigenvalues are the same: growth rates within 10 % of the larger (at
+/// least 0.01 1/s) and frequencies within 5 %.
+fn same_eigenvalue(a: crate::sim::SteadyStability, b: crate::sim::SteadyStability) -> bool {
+    let scale = (a.growth_rate_per_s.abs())
+        .max(b.growth_rate_per_s.abs())
+        .max(0.01);
+    (a.growth_rate_per_s - b.growth_rate_per_s).abs() <= 0.1 * scale
+        && (a.frequency_hz - b.frequency_hz).abs()
+            <= 0.05 * a.frequency_hz.max(b.frequency_hz).max(1.0)
+}
+
+/// "1.234 1/s growth (56.7 Hz)" or "0.012 1/s decay (3.4 Hz)".
+fn eigenvalue_text(s: crate::sim::SteadyStability) -> String {
+    let (rate, word) = if s.unstable() {
+        (s.growth_rate_per_s, "growth")
+    } else {
+        (-s.growth_rate_per_s, "decay")
+    };
+    format!("{rate:.3} 1/s {word} ({:.1} Hz)", s.frequency_hz)
+}
+
+/// The line that compares the basis' steady-state eigenvalue with the finite-element model's on
+/// the base mesh and, when computed, on the refined mesh: which of the two (the mesh, the
+/// basis) does not hold the mode that decides stability.
+fn stability_reference(
+    basis: crate::sim::SteadyStability,
+    fe: crate::sim::SteadyStability,
+    fe_refined: Option<crate::sim::SteadyStability>,
+) -> String {
+    let head = format!(
+        "the finite-element model (every DOF) on the same mesh: {}",
+        eigenvalue_text(fe)
+    );
+    let tail = " (docs/model.md, \"Linear stability of steady drilling\")";
+    match fe_refined {
+        Some(refined) if !same_eigenvalue(fe, refined) => format!(
+            "{head}; on twice the elements: {}: the mesh does NOT resolve the mode that decides \
+             stability{tail}",
+            eigenvalue_text(refined)
+        ),
+        _ if same_eigenvalue(basis, fe) => format!(
+            "{head}{}: the basis holds the mode that decides stability",
+            if fe_refined.is_some() {
+                ", converged in the mesh"
+            } else {
+                ""
+            }
+        ),
+        _ => format!(
+            "{head}{}: the basis does NOT hold the mode that decides stability, or holds a \
+             spurious one: more vectors of the torsional and axial families{tail}",
+            if fe_refined.is_some() {
+                ", converged in the mesh"
+            } else {
+                ""
+            }
+        ),
+    }
+}
+
+#[cfg(test)]
+mod stability_reference_tests {
+    use super::*;
+    use crate::sim::SteadyStability;
+
+    fn at(growth_rate_per_s: f64, frequency_hz: f64) -> SteadyStability {
+        SteadyStability {
+            growth_rate_per_s,
+            frequency_hz,
+        }
+    }
+
+    #[test]
+    fn the_line_says_which_of_mesh_and_basis_misses_the_deciding_mode() {
+        // well_1km's figures (docs/model.md): basis 0.012 at 2.1 Hz, the FE model 0.428 at 200.5
+        // Hz on 104 elements and 0.021 at 13.3 Hz on 208.
+        let line = stability_reference(at(0.012, 2.1), at(0.428, 200.5), Some(at(0.021, 13.3)));
+        assert!(line.contains("the mesh does NOT resolve"), "{line}");
+        let line = stability_reference(at(0.012, 2.1), at(0.021, 13.3), Some(at(0.021, 13.3)));
+        assert!(
+            line.contains("converged in the mesh: the basis does NOT hold"),
+            "{line}"
+        );
+        let line = stability_reference(at(0.022, 13.4), at(0.021, 13.3), Some(at(0.0211, 13.3)));
+        assert!(line.contains("the basis holds the mode"), "{line}");
+        // Stable and within 10 %: the same; a sign change is not.
+        assert!(same_eigenvalue(at(-0.50, 3.8), at(-0.47, 3.9)));
+        assert!(!same_eigenvalue(at(0.3, 49.4), at(-0.3, 49.4)));
+        assert!(eigenvalue_text(at(-0.017, 3.8)).contains("0.017 1/s decay"));
     }
 }

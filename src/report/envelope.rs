@@ -242,6 +242,20 @@ mod tests {
         plot_stress_envelope(&e, &op, UnitSystem::Metric, &path).unwrap();
         let svg = std::fs::read_to_string(&path).unwrap();
         assert!(svg.contains("sinusoidal buckling load of each section"));
+        // The axis holds the weakest section's load, not the stabiliser's meganewtons (which
+        // would flatten the pipe's compression against the axis).
+        let highest = loads.iter().copied().fold(0.0, f64::max);
+        let weakest = loads.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(highest > 5.0 * weakest, "{highest} vs {weakest}");
+        let ticks: Vec<f64> = (svg.split('>'))
+            .filter_map(|t| t.split('<').next()?.trim().parse::<f64>().ok())
+            .collect();
+        assert!(
+            ticks.iter().all(|&v| v < 0.5 * highest / 1e3),
+            "a tick near the stabiliser's {} kN: {ticks:?}",
+            highest / 1e3
+        );
+        assert!(ticks.iter().any(|&v| v >= 0.5 * weakest / 1e3), "{ticks:?}");
         // The boundaries, dashed in each of the four panels: more dashed lines than without.
         let one = StressEnvelope::for_string(&p.model, &layout, 0.0);
         let mut plain = one.clone();

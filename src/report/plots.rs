@@ -386,10 +386,13 @@ fn draw_panel(
             .map(|(&x, &v)| (x, v * panel.scale))
             .collect()
     });
+    // The curve's lowest value is always in range (the weakest section's limit); higher parts
+    // may leave the top (a short stabiliser's buckling load is meganewtons above the pipe's).
+    let lowest_limit = curve.iter().map(|p| p.1).reduce(f64::min);
     let (y_lo, y_hi) = axis_range(
         (points.iter().map(|p| p.1))
             .chain(reference.map(|(v, _)| v))
-            .chain(curve.iter().map(|p| p.1)),
+            .chain(lowest_limit),
         Y_PAD,
     );
 
@@ -407,10 +410,20 @@ fn draw_panel(
     }
     if let (false, Some((_, label))) = (curve.is_empty(), panel.reference_curve) {
         let style = RED.stroke_width(2);
-        chart
-            .draw_series(LineSeries::new(curve, style))?
-            .label(label)
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], style));
+        // The runs of the curve inside the axis, each its own line (a part above the top is
+        // not drawn, rather than drawn across the frame); the first carries the legend.
+        let runs = curve
+            .split(|p| p.1 > y_hi)
+            .filter(|run| !run.is_empty())
+            .collect::<Vec<_>>();
+        for (k, run) in runs.into_iter().enumerate() {
+            let series = chart.draw_series(LineSeries::new(run.iter().copied(), style))?;
+            if k == 0 {
+                series
+                    .label(label)
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 24, y)], style));
+            }
+        }
         draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
     }
     if let Some((value, label)) = reference {

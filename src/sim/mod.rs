@@ -31,7 +31,7 @@ pub use run::{
 };
 pub use sampler::{SampleInterval, Sampler};
 pub use series::{CHANNELS, Channel, Frame, Row, Sink, TimeSeries, at};
-pub use stability::{NEUTRAL, SteadyStability, steady_stability};
+pub use stability::{MAX_UNKNOWNS, NEUTRAL, SteadyStability, steady_stability};
 
 /// Revision of the simulator's numerics, part of every cache key: bump it with any change that
 /// can move a simulated number (model, basis, start, integrator, metrics), so that results of

@@ -84,6 +84,7 @@ pub fn numerical_check(
         op: best.op(),
         duration: problem.simulation.duration,
         settling: problem.simulation.settling_time,
+        stability_reference: false,
     };
     let mut runs = refinements(problem);
     runs.push(Refinement::Perturbed);

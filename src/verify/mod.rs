@@ -218,6 +218,30 @@ pub struct VerifyRun {
     /// other runs and where it is not computed.
     #[serde(skip)]
     pub steady_state: Option<crate::sim::SteadyStability>,
+    /// The same of the finite-element model on the run's mesh (every free DOF), for the reduced
+    /// base run and mesh refinement whose mesh is small enough ([`unreduced_steady_state`]).
+    #[serde(skip)]
+    pub steady_state_unreduced: Option<crate::sim::SteadyStability>,
+}
+
+/// The steady-state stability of the finite-element model of `string` on `elements` elements at
+/// `op` (every free DOF: the reference of a basis' growth rate, which the bit's negative
+/// damping can read off a truncation's residual mode, docs/model.md "Linear stability of steady
+/// drilling"); `None` above [`crate::sim::MAX_UNKNOWNS`] free DOFs (not built), for a
+/// depth-of-cut bit, or when it cannot be computed.
+pub fn unreduced_steady_state(
+    string: &crate::model::Drillstring,
+    elements: usize,
+    op: OperatingPoint,
+) -> Option<crate::sim::SteadyStability> {
+    // 6 DOFs per node, the top's clamped: the free DOFs of the unreduced model.
+    if 6 * elements > crate::sim::MAX_UNKNOWNS || string.bit.blades().is_some() {
+        return None;
+    }
+    let model = ReducedModel::unreduced(string, elements).ok()?;
+    crate::sim::steady_stability(&model, op, Effects::ALL)
+        .ok()
+        .flatten()
 }
 
 /// The outcome of `verify`.
@@ -244,6 +268,12 @@ pub struct VerifyReport {
     /// steady state is left by the run only once a disturbance has grown, so the window
     /// refinement may be what tells; `None` where it is not computed.
     pub steady_state: Option<crate::sim::SteadyStability>,
+    /// The same eigenvalue of the finite-element model on the base mesh and on the refined one
+    /// (twice the elements), where affordable ([`unreduced_steady_state`]): when the two agree
+    /// the model's own answer is converged in the mesh, and a basis that differs from it does
+    /// not hold the mode that decides stability (or holds a spurious one).
+    pub steady_state_unreduced: Option<crate::sim::SteadyStability>,
+    pub steady_state_unreduced_refined_mesh: Option<crate::sim::SteadyStability>,
     pub runs: Vec<VerifyRun>,
 }
 
@@ -278,6 +308,10 @@ pub struct VerifySettings {
     pub duration: f64,
     /// Settling time before the analysis window, s (< duration).
     pub settling: f64,
+    /// Whether to compute the finite-element model's steady-state eigenvalue on the base and
+    /// the refined mesh ([`unreduced_steady_state`]; `verify` does, `solve`'s check does not:
+    /// up to a minute of dense eigenvalues on twice a field well's mesh).
+    pub stability_reference: bool,
 }
 
 /// One run's description.
@@ -440,6 +474,11 @@ pub fn verify_with(
         .map_or(base_run.basis, |(r, _)| r.basis);
     Ok(VerifyReport {
         steady_state: base_run.steady_state,
+        steady_state_unreduced: base_run.steady_state_unreduced,
+        steady_state_unreduced_refined_mesh: results
+            .iter()
+            .find(|(r, _)| r.name == Refinement::Mesh.name())
+            .and_then(|(r, _)| r.steady_state_unreduced),
         bit_damping_ratio: base_metrics
             .clone()
             .with_drilled_bit_damping_ratio(&problem.model, settings.op)
@@ -593,6 +632,14 @@ fn run_variant(
                 crate::sim::steady_stability(&model, op, Effects::ALL)
                     .ok()
                     .flatten()
+            } else {
+                None
+            },
+            steady_state_unreduced: if settings.stability_reference
+                && (v.name == "base" || v.name == Refinement::Mesh.name())
+                && !v.unreduced
+            {
+                unreduced_steady_state(string, v.elements, op)
             } else {
                 None
             },

@@ -117,11 +117,15 @@ fn a_map_and_compare_over_omega_and_wob() {
     assert_eq!(p["objective"], node["objective"]);
     assert_eq!(p["feasible"], node["feasible"]);
     // The map's best node, pasted as the terminal says: the same point, the same score.
-    let flag = table
+    let paste: Vec<&str> = table
         .lines()
-        .find_map(|l| l.split("drillopt compare PROBLEM --point ").nth(1))
-        .and_then(|rest| rest.split_whitespace().next())
-        .expect("the paste line");
+        .find_map(|l| l.split("the same point again: drillopt compare ").nth(1))
+        .expect("the paste line")
+        .split_whitespace()
+        .collect();
+    // The problem's own file, then the point.
+    assert_eq!((paste[0], paste[1]), (FILE, "--point"), "{paste:?}");
+    let flag = paste[2];
     assert!(flag.ends_with("kN"), "{flag}");
     let again_dir = dir.path().join("again");
     drillopt(&["compare", FILE, "--point", flag, "--quiet"], &again_dir);
