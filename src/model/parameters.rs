@@ -28,6 +28,25 @@ pub struct ParameterSpec {
 }
 
 impl ParameterSpec {
+    /// A declaration of a scalar input (the fields in order), for the tables of `const` rows.
+    pub const fn new(
+        key: &'static str,
+        dimension: Dimension,
+        range: Range,
+        default: Option<f64>,
+        example: f64,
+        doc: &'static str,
+    ) -> Self {
+        ParameterSpec {
+            key,
+            dimension,
+            range,
+            default,
+            example,
+            doc,
+        }
+    }
+
     /// The last component of the key (`friction` for `model.wall.friction`).
     pub fn name(&self) -> &'static str {
         self.key.rsplit('.').next().unwrap_or(self.key)
@@ -95,30 +114,12 @@ const fn row(
     }
 }
 
-const fn spec(
-    key: &'static str,
-    dimension: Dimension,
-    range: Range,
-    default: Option<f64>,
-    example: f64,
-    doc: &'static str,
-) -> ParameterSpec {
-    ParameterSpec {
-        key,
-        dimension,
-        range,
-        default,
-        example,
-        doc,
-    }
-}
-
 use Dimension as D;
 use Enters::{LinearOperators as Linear, NonlinearForces as Nonlinear};
 
 /// `model.pipe.damping`: the declaration the problem's key table ([`crate::problem::keys`]) and
 /// [`STRING_PARAMETERS`] share, as for the six below.
-pub const PIPE_DAMPING: ParameterSpec = spec(
+pub const PIPE_DAMPING: ParameterSpec = ParameterSpec::new(
     "model.pipe.damping",
     D::Rate,
     Range::closed(0.0, 1e3, "mass-proportional damping c"),
@@ -126,7 +127,7 @@ pub const PIPE_DAMPING: ParameterSpec = spec(
     0.01,
     "mass-proportional damping c (C = c M)",
 );
-pub const PIPE_STIFFNESS_DAMPING: ParameterSpec = spec(
+pub const PIPE_STIFFNESS_DAMPING: ParameterSpec = ParameterSpec::new(
     "model.pipe.stiffness_damping",
     D::Time,
     Range::closed(
@@ -138,7 +139,7 @@ pub const PIPE_STIFFNESS_DAMPING: ParameterSpec = spec(
     1e-5,
     "stiffness-proportional damping β (C = c M_pipe + β K); 0, the paper's, by default",
 );
-pub const PIPE_DENSITY: ParameterSpec = spec(
+pub const PIPE_DENSITY: ParameterSpec = ParameterSpec::new(
     "model.pipe.density",
     D::Density,
     Range::closed(1e3, 25e3, "from light alloys to tungsten"),
@@ -146,7 +147,7 @@ pub const PIPE_DENSITY: ParameterSpec = spec(
     7850.0,
     "steel density ρ",
 );
-pub const PIPE_YOUNGS_MODULUS: ParameterSpec = spec(
+pub const PIPE_YOUNGS_MODULUS: ParameterSpec = ParameterSpec::new(
     "model.pipe.youngs_modulus",
     D::Pressure,
     Range::closed(1e9, 1e12, "from polymers to tungsten carbide"),
@@ -154,7 +155,7 @@ pub const PIPE_YOUNGS_MODULUS: ParameterSpec = spec(
     203e9,
     "Young's modulus E",
 );
-pub const FLUID_DENSITY: ParameterSpec = spec(
+pub const FLUID_DENSITY: ParameterSpec = ParameterSpec::new(
     "model.fluid.density",
     D::Density,
     Range::closed(0.0, 3e3, "from air to the heaviest muds"),
@@ -162,7 +163,7 @@ pub const FLUID_DENSITY: ParameterSpec = spec(
     1200.0,
     "drilling-fluid density ρ_f inside the pipe (lateral mass and weight)",
 );
-pub const ANNULUS_DENSITY: ParameterSpec = spec(
+pub const ANNULUS_DENSITY: ParameterSpec = ParameterSpec::new(
     "model.fluid.annulus_density",
     D::Density,
     Range::closed(0.0, 3e3, "from none (0) to the heaviest muds"),
@@ -171,7 +172,7 @@ pub const ANNULUS_DENSITY: ParameterSpec = spec(
     "density ρ_a of the fluid in the annulus (buoyancy: gravity load; confined added mass); \
      none (0), the paper's model, by default",
 );
-pub const BOREHOLE_RADIUS: ParameterSpec = spec(
+pub const BOREHOLE_RADIUS: ParameterSpec = ParameterSpec::new(
     "model.borehole.radius",
     D::Length,
     // It must also exceed the pipe's outer radius, at least 1 mm.

@@ -157,27 +157,9 @@ pub const POWER_RANGE: Range =
 /// as the drawworks of a modern rig do.
 pub const DEFAULT_TIME_CONSTANT: f64 = 1.0;
 
-const fn top_key(
-    key: &'static str,
-    dimension: Dimension,
-    range: Range,
-    default: Option<f64>,
-    example: f64,
-    doc: &'static str,
-) -> ParameterSpec {
-    ParameterSpec {
-        key,
-        dimension,
-        range,
-        default,
-        example,
-        doc,
-    }
-}
-
 /// The keys of the driller's tops, as the problem's key table ([`crate::problem::keys`]) and
 /// their validation read them.
-pub const WOB_SET_POINT: ParameterSpec = top_key(
+pub const WOB_SET_POINT: ParameterSpec = ParameterSpec::new(
     "operating_point.wob",
     Dimension::Force,
     WOB_RANGE,
@@ -185,7 +167,7 @@ pub const WOB_SET_POINT: ParameterSpec = top_key(
     50e3,
     "the hook load's WOB set-point, its surface push (top = \"hook_load\"; required with it)",
 );
-pub const WOB_LIMIT: ParameterSpec = top_key(
+pub const WOB_LIMIT: ParameterSpec = ParameterSpec::new(
     "operating_point.wob_limit",
     Dimension::Force,
     WOB_RANGE,
@@ -193,7 +175,7 @@ pub const WOB_LIMIT: ParameterSpec = top_key(
     80e3,
     "the autodriller's surface WOB limit (top = \"autodriller\"; required with it)",
 );
-pub const TORQUE_LIMIT: ParameterSpec = top_key(
+pub const TORQUE_LIMIT: ParameterSpec = ParameterSpec::new(
     "operating_point.torque_limit",
     Dimension::Torque,
     TORQUE_RANGE,
@@ -201,7 +183,7 @@ pub const TORQUE_LIMIT: ParameterSpec = top_key(
     20e3,
     "the autodriller's surface torque limit (optional: none)",
 );
-pub const POWER_LIMIT: ParameterSpec = top_key(
+pub const POWER_LIMIT: ParameterSpec = ParameterSpec::new(
     "operating_point.power_limit",
     Dimension::Power,
     POWER_RANGE,
@@ -209,7 +191,7 @@ pub const POWER_LIMIT: ParameterSpec = top_key(
     600e3,
     "the top drive's power rating: a torque limit P/Ω (optional: none)",
 );
-pub const AUTODRILLER_TIME_CONSTANT: ParameterSpec = top_key(
+pub const AUTODRILLER_TIME_CONSTANT: ParameterSpec = ParameterSpec::new(
     "operating_point.autodriller_time_constant",
     Dimension::Time,
     TIME_CONSTANT_RANGE,

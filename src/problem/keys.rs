@@ -89,24 +89,6 @@ impl Key {
     }
 }
 
-const fn spec(
-    key: &'static str,
-    dimension: Dimension,
-    range: Range,
-    default: Option<f64>,
-    example: f64,
-    doc: &'static str,
-) -> ParameterSpec {
-    ParameterSpec {
-        key,
-        dimension,
-        range,
-        default,
-        example,
-        doc,
-    }
-}
-
 /// A key that enters the numerical `stages` with its value in a problem; required unless its
 /// spec has a default.
 const fn key(spec: ParameterSpec, stages: &'static [Stage], value: fn(&Problem) -> f64) -> Key {
@@ -171,7 +153,7 @@ pub static KEYS: [Key; 37] = [
     // string panicked in the shape functions; a 1e-300 m radius made the mass matrix singular,
     // reported under `mesh.basis`).
     key(
-        spec(
+        ParameterSpec::new(
             "model.length",
             Length,
             closed(
@@ -190,7 +172,7 @@ pub static KEYS: [Key; 37] = [
     // 1/g): 0 is a weightless test of the bare dynamics, else at least 0.1 m/s², below the
     // gravity of any body a string is drilled on (the Moon's is 1.6 m/s²).
     key(
-        spec(
+        ParameterSpec::new(
             "model.gravity",
             Acceleration,
             Range::zero_or(
@@ -208,7 +190,7 @@ pub static KEYS: [Key; 37] = [
     Key {
         omitted: Omitted::Else("required, unless [[model.section]] give the sizes (then refused)"),
         ..pipe(
-            spec(
+            ParameterSpec::new(
                 "model.pipe.outer_radius",
                 Length,
                 closed(1e-3, 1.0, "a pipe 2 mm to 2 m across"),
@@ -224,7 +206,7 @@ pub static KEYS: [Key; 37] = [
     Key {
         omitted: Omitted::Else("required, unless [[model.section]] give the sizes (then refused)"),
         ..pipe(
-            spec(
+            ParameterSpec::new(
                 "model.pipe.inner_radius",
                 Length,
                 closed(0.0, 1.0, "a pipe bore of at most 2 m"),
@@ -243,7 +225,7 @@ pub static KEYS: [Key; 37] = [
     }),
     // ν = −1 makes the shear modulus E/(2(1 + ν)) infinite and ν = 0.5 is incompressible.
     pipe(
-        spec(
+        ParameterSpec::new(
             "model.pipe.poisson_ratio",
             Dimensionless,
             closed(
@@ -264,7 +246,7 @@ pub static KEYS: [Key; 37] = [
     Key {
         omitted: Omitted::Else("\"cowper\": Cowper's factor of the section's radii and ν"),
         ..pipe(
-            spec(
+            ParameterSpec::new(
                 "model.pipe.shear_factor",
                 Dimensionless,
                 closed(
@@ -281,7 +263,7 @@ pub static KEYS: [Key; 37] = [
         )
     },
     pipe(
-        spec(
+        ParameterSpec::new(
             "model.pipe.torsion_factor",
             Dimensionless,
             closed(
@@ -298,7 +280,7 @@ pub static KEYS: [Key; 37] = [
     ),
     // The stresses are reported relative to it (1e-300 printed a 300-digit utilisation).
     plain(
-        spec(
+        ParameterSpec::new(
             "model.pipe.yield_strength",
             Pressure,
             closed(
@@ -316,7 +298,7 @@ pub static KEYS: [Key; 37] = [
     // The S-N curve of the fatigue damage, `[model.pipe.fatigue]`: by name (`sn_curve`, a word)
     // or by these parameters; every published steel curve lies within the ranges.
     plain(
-        spec(
+        ParameterSpec::new(
             "model.pipe.fatigue.log_a1",
             Dimensionless,
             closed(5.0, 40.0, "every published steel curve lies within it"),
@@ -327,7 +309,7 @@ pub static KEYS: [Key; 37] = [
         Omitted::Else("required with m1 when the curve is given by its parameters"),
     ),
     plain(
-        spec(
+        ParameterSpec::new(
             "model.pipe.fatigue.m1",
             Dimensionless,
             closed(
@@ -342,7 +324,7 @@ pub static KEYS: [Key; 37] = [
         Omitted::Else("required with log_a1 when the curve is given by its parameters"),
     ),
     plain(
-        spec(
+        ParameterSpec::new(
             "model.pipe.fatigue.log_a2",
             Dimensionless,
             closed(5.0, 40.0, "every published steel curve lies within it"),
@@ -353,7 +335,7 @@ pub static KEYS: [Key; 37] = [
         Omitted::Else("none: one branch (with m2 or not at all)"),
     ),
     plain(
-        spec(
+        ParameterSpec::new(
             "model.pipe.fatigue.m2",
             Dimensionless,
             closed(
@@ -368,7 +350,7 @@ pub static KEYS: [Key; 37] = [
         Omitted::Else("none: one branch (with log_a2 or not at all)"),
     ),
     plain(
-        spec(
+        ParameterSpec::new(
             "model.pipe.fatigue.endurance_limit",
             Pressure,
             closed(
@@ -385,7 +367,7 @@ pub static KEYS: [Key; 37] = [
         ),
     ),
     plain(
-        spec(
+        ParameterSpec::new(
             "model.pipe.fatigue.stress_concentration",
             Dimensionless,
             closed(
@@ -408,7 +390,7 @@ pub static KEYS: [Key; 37] = [
     key(BOREHOLE_RADIUS, STATIC, |p| p.model.borehole_radius),
     // The wall law's own parameters are in its table; how its friction acts is the wall's.
     plain(
-        spec(
+        ParameterSpec::new(
             "model.wall.slip_smoothing",
             WallFriction::SLIP_SMOOTHING_DIMENSION,
             WallFriction::SLIP_SMOOTHING_RANGE,
@@ -420,7 +402,7 @@ pub static KEYS: [Key; 37] = [
         Omitted::Default,
     ),
     key(
-        spec(
+        ParameterSpec::new(
             "model.bit.inertia",
             MomentOfInertia,
             closed(
@@ -437,7 +419,7 @@ pub static KEYS: [Key; 37] = [
         |p| p.model.bit_inertia,
     ),
     key(
-        spec(
+        ParameterSpec::new(
             "mesh.elements",
             Dimensionless,
             Range::integer(
@@ -453,7 +435,7 @@ pub static KEYS: [Key; 37] = [
         |p| p.mesh.elements as f64,
     ),
     key(
-        spec(
+        ParameterSpec::new(
             "operating_point.omega",
             AngularVelocity,
             closed(
@@ -471,7 +453,7 @@ pub static KEYS: [Key; 37] = [
     Key {
         omitted: Omitted::Else("required unless top = \"hook_load\" (refused with it)"),
         ..key(
-            spec(
+            ParameterSpec::new(
                 "operating_point.v0",
                 Velocity,
                 Range::zero_or(
@@ -505,7 +487,7 @@ pub static KEYS: [Key; 37] = [
     ),
     plain(AUTODRILLER_TIME_CONSTANT, Omitted::Default),
     plain(
-        spec(
+        ParameterSpec::new(
             "campbell.excitation_multiple",
             Dimensionless,
             closed(
@@ -522,7 +504,7 @@ pub static KEYS: [Key; 37] = [
     // Depth of cut per revolution 2π V0/Ω: a limit below 1 µm is finer than any cutter's edge,
     // above 10 cm taller than any cutter (PDC cutters are 8-19 mm).
     plain(
-        spec(
+        ParameterSpec::new(
             "constraints.max_depth_of_cut",
             Length,
             closed(
@@ -539,7 +521,7 @@ pub static KEYS: [Key; 37] = [
     // At least the shortest time step: `--duration 1e-300` took no step and failed naming no
     // key; a run of one step ends with its metrics refused, said so.
     key(
-        spec(
+        ParameterSpec::new(
             "simulation.duration",
             Time,
             closed(
@@ -555,7 +537,7 @@ pub static KEYS: [Key; 37] = [
         |p| p.simulation.duration,
     ),
     key(
-        spec(
+        ParameterSpec::new(
             "simulation.time_step",
             Time,
             closed(1e-6, 1.0, "a nominal step between 1 µs and 1 s"),
@@ -567,7 +549,7 @@ pub static KEYS: [Key; 37] = [
         |p| p.simulation.time_step,
     ),
     plain(
-        spec(
+        ParameterSpec::new(
             "simulation.settling_time",
             Time,
             closed(
@@ -582,7 +564,7 @@ pub static KEYS: [Key; 37] = [
         Omitted::Default,
     ),
     plain(
-        spec(
+        ParameterSpec::new(
             "simulation.sample_interval",
             Time,
             closed(
