@@ -541,7 +541,22 @@ pub fn print_held_by(
     }
     // What a binding bound costs: the local slope of the score (a plane through the points
     // evaluated around the optimum), per unit of the bound moved outward.
-    if let Some(s) = crate::solve::score_slope(constraints, best, evaluated) {
+    let slope = crate::solve::score_slope(constraints, best, evaluated);
+    // A bound of the box (Ω, or the set-point V0 or WOB) at its limit.
+    let set_point = format!("{}.", constraints.kind.key());
+    let bound_held = activity
+        .iter()
+        .any(|a| a.at_limit && (a.name.starts_with("omega.") || a.name.starts_with(&set_point)));
+    if slope.is_none() && bound_held {
+        println!(
+            "  what moving a bound would change is not estimated: fewer than 3 feasible points \
+             were evaluated within {:.0} % of the box around the optimum, or they spread less \
+             than {:.0} % of it each way (a finer grid there, or a local method, gives it)",
+            100.0 * crate::solve::FIT_RADIUS,
+            100.0 * crate::solve::MIN_SPREAD
+        );
+    }
+    if let Some(s) = slope {
         let kind = constraints.kind;
         let (set_unit, set_factor) = units.convert_metric(kind.unit());
         let (score_unit, score_factor) = t.score;

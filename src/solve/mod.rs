@@ -18,7 +18,7 @@ pub use activity::{
 pub use check::{CheckedMetric, NumericalCheck, numerical_check};
 pub use multi_fidelity::{Candidate, Confirmation, Refinement, candidates, solve_multi_fidelity};
 pub use scaling::Scaling;
-pub use slope::{FIT_RADIUS, ScoreSlope, score_slope};
+pub use slope::{FIT_RADIUS, MIN_SPREAD, ScoreSlope, score_slope};
 
 use crate::model::OperatingPoint;
 use crate::optimize::{

@@ -62,3 +62,33 @@ fn the_status_tells_a_spent_budget_from_convergence() {
     });
     assert_eq!(json["problem_hash"], format!("{fnv:016x}"));
 }
+
+#[test]
+fn a_held_bound_whose_slope_cannot_be_estimated_says_so() {
+    // A 3 x 3 grid: its neighbours lie half the box apart, none within the fit's 15 %, so the
+    // score's slope at the optimum (on a bound) is not estimated, and the terminal says why.
+    let dir = tempfile::tempdir().unwrap();
+    let tiny = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/regression/tiny_string.toml"
+    ))
+    .unwrap();
+    let start = tiny.find("[optimizer]").unwrap();
+    let end = start + tiny[start..].find("start = [").unwrap();
+    let end = end + tiny[end..].find('\n').unwrap();
+    let grid = format!(
+        "{}[optimizer]\nmethod = \"grid\"\ngrid = [3, 3]{}",
+        &tiny[..start],
+        &tiny[end..]
+    );
+    let file = dir.path().join("tiny_grid.toml");
+    std::fs::write(&file, grid).unwrap();
+    let (json, stdout) = solve(file.to_str().unwrap(), &dir.path().join("grid"));
+    assert_eq!(json["status"], "grid_complete", "{}", json["termination"]);
+    assert!(stdout.contains("held by: "), "{stdout}");
+    assert!(
+        stdout.contains("what moving a bound would change is not estimated"),
+        "{stdout}"
+    );
+    assert!(json["score_slope"].is_null(), "{}", json["score_slope"]);
+}
