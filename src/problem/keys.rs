@@ -143,6 +143,15 @@ use crate::model::{
     AUTODRILLER_TIME_CONSTANT, POWER_LIMIT, TORQUE_LIMIT, WOB_LIMIT, WOB_SET_POINT,
 };
 
+/// The range of log₁₀ ā of an S-N curve's branches (stress range in MPa).
+const LOG_A_RANGE: Range = closed(5.0, 40.0, "every published steel curve lies within it");
+/// The range of an S-N curve's inverse slopes m.
+const SLOPE_RANGE: Range = closed(
+    1.0,
+    30.0,
+    "the inverse slopes of published curves are 3 to 5",
+);
+
 /// The problem file's scalar keys, in the order of a file. The parameters of the wall contact
 /// and bit–rock laws are in each law's own table ([`crate::model::Law::parameters`]). Every
 /// range is closed and its lower end excludes the values that make the model meaningless: each
@@ -301,7 +310,7 @@ pub static KEYS: [Key; 37] = [
         ParameterSpec::new(
             "model.pipe.fatigue.log_a1",
             Dimensionless,
-            closed(5.0, 40.0, "every published steel curve lies within it"),
+            LOG_A_RANGE,
             None,
             12.164,
             "log₁₀ ā₁ of the S-N curve N = ā₁ Δσ^(−m₁), Δσ in MPa (DNV-RP-C203)",
@@ -312,11 +321,7 @@ pub static KEYS: [Key; 37] = [
         ParameterSpec::new(
             "model.pipe.fatigue.m1",
             Dimensionless,
-            closed(
-                1.0,
-                30.0,
-                "the inverse slopes of published curves are 3 to 5",
-            ),
+            SLOPE_RANGE,
             None,
             3.0,
             "the inverse slope m₁ of the curve's first branch",
@@ -327,7 +332,7 @@ pub static KEYS: [Key; 37] = [
         ParameterSpec::new(
             "model.pipe.fatigue.log_a2",
             Dimensionless,
-            closed(5.0, 40.0, "every published steel curve lies within it"),
+            LOG_A_RANGE,
             None,
             15.606,
             "log₁₀ ā₂ of the branch beyond the knee",
@@ -338,11 +343,7 @@ pub static KEYS: [Key; 37] = [
         ParameterSpec::new(
             "model.pipe.fatigue.m2",
             Dimensionless,
-            closed(
-                1.0,
-                30.0,
-                "the inverse slopes of published curves are 3 to 5",
-            ),
+            SLOPE_RANGE,
             None,
             5.0,
             "the inverse slope m₂ of the branch beyond the knee, greater than m1",
