@@ -386,6 +386,17 @@ impl ElementStrains {
         }
     }
 
+    /// The generalised strains at the four Gauss points (one lane each) of the element whose
+    /// DOFs are `d`.
+    pub(super) fn strains_at_points(&self, d: &[f64; ELEMENT_DOF]) -> [Lanes; STRAIN_VARS] {
+        self.operator.strains(d)
+    }
+
+    /// The quadrature weights of the four Gauss points (they include the element length), m.
+    pub(super) fn weights(&self) -> Lanes {
+        self.weights
+    }
+
     /// The strains at Gauss point `p` from the strains at all four.
     fn point_strains(g: &[Lanes; STRAIN_VARS], p: usize) -> Strains<f64> {
         Strains::from(g.map(|x| x.0[p]))

@@ -155,9 +155,7 @@ pub fn tiny_run_metrics(p: &drillopt::problem::Problem) -> Vec<(&'static str, f6
         |_| {},
     );
     assert!(out.error.is_none(), "{:?}", out.error);
-    let config =
-        drillopt::metrics::MetricsConfig::new(op.omega, op.v0, p.model.borehole_radius, 0.2);
-    drillopt::metrics::compute(&out.series, &config)
+    drillopt::metrics::of_run(&out, &p.model, op, 0.2, None)
         .unwrap()
         .named_values()
         .to_vec()
