@@ -121,6 +121,21 @@ impl SectionStress {
         }
     }
 
+    /// Moves `strains` so that the section carries the axial force and the torque of its strains
+    /// less `axial_defect` (N) and `torque_defect` (N·m): the twist rate θx′ by
+    /// −torque_defect / (κ_t G J), then the membrane strain (through its correction) by
+    /// −axial_defect / (EA). The force-summation recovery of a reduced model
+    /// ([`crate::rom::ForceSummation`]); the bending strains are left as they are.
+    pub fn balance(&self, strains: &mut SectionStrains, axial_defect: f64, torque_defect: f64) {
+        let l = &self.law;
+        let membrane = self.membrane_strain(&strains.midpoint) + strains.membrane_correction;
+        strains.midpoint[3] -=
+            torque_defect / (l.torsion_factor * l.shear_modulus * self.polar_moment);
+        strains.membrane_correction = membrane
+            - axial_defect / (l.youngs_modulus * l.area)
+            - self.membrane_strain(&strains.midpoint);
+    }
+
     /// The section's membrane strain ∫E_xx dA / A at a point whose generalised strains are `g`:
     /// u′ + ½(u′² + v′² + w′²) + ½(I/A)(p² + q² + 2θx′²), p = θx′θy − θz′, q = θy′ + θx′θz (the
     /// fibre strain's odd moments vanish over the section and ∫Y² dA = ∫Z² dA = I).
@@ -318,7 +333,10 @@ mod tests {
                 / (1.0 + eps);
             let strains = st.strains(&d);
             let n = st.loads_of(&strains).axial_force;
-            assert!((n / nodal - 1.0).abs() < 1e-3, "ε {eps}: N {n}, nodal {nodal}");
+            assert!(
+                (n / nodal - 1.0).abs() < 1e-3,
+                "ε {eps}: N {n}, nodal {nodal}"
+            );
             let expected = (kappa * h).powi(2) / 24.0;
             assert!(
                 (strains.membrane_correction / expected - 1.0).abs() < 1e-2,

@@ -3,6 +3,7 @@
 mod blocks;
 mod eigen;
 mod family;
+mod force_summation;
 mod lanczos;
 mod modes;
 mod operator;
@@ -15,6 +16,7 @@ mod sparse;
 pub use blocks::{BlockBasis, BlockWork};
 pub use eigen::{EigenError, generalized_symmetric_eigen};
 pub use family::{BasisCounts, BasisError, Family, Mode, ModeKind};
+pub use force_summation::{ForceSummation, FullState};
 pub use lanczos::{lanczos_applies, sparse_generalized_eigen};
 pub use modes::ModalBasis;
 pub use operator::Operator;

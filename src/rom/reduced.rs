@@ -10,7 +10,9 @@
 //! identity), which is the finite-element model without reduction (issue 11: the reference the
 //! reduced bases are checked against), with sparse operators and a sparse Newton matrix.
 
-use super::{BasisError, BlockBasis, BlockWork, Family, ModalBasis, Operator, SparseBasis};
+use super::{
+    BasisError, BlockBasis, BlockWork, Family, ForceSummation, ModalBasis, Operator, SparseBasis,
+};
 use crate::fem::{
     AssembledMesh, BoundaryConditions, Dof, ElementInertia, ElementStrains, GlobalMatrices,
     StrainEnergy, assemble,
@@ -59,6 +61,10 @@ pub struct ReducedModel {
     /// The element kernels of each kind of element of the mesh (`global.layout`'s kinds, in
     /// their order): see [`Self::kernel`].
     pub kernels: Vec<ElementKernel>,
+    /// The reduced model's recovery of the axial force and torque along the string from the
+    /// loads below each section ([`ForceSummation`]); `None` for the unreduced model, whose
+    /// strains carry them (its residual vanishes at every node).
+    pub force_summation: Option<ForceSummation>,
 }
 
 /// What the residual evaluates on an element of one kind: its strain-energy law, the strain
@@ -174,6 +180,14 @@ impl ReducedModel {
         let modes = phi.ncols();
         let dof = global.dof();
         let gravity = phi.transpose() * DVector::from_fn(dof, |i, _| global.gravity[i]);
+        let force_summation = operators.jacobian_pattern.is_none().then(|| {
+            ForceSummation::new(
+                [&global.mass, &global.pipe_mass, &global.stiffness],
+                [string.damping, string.stiffness_damping],
+                &global.gravity,
+                elements + 1,
+            )
+        });
         // Each dense matrix is dropped as soon as it is used (peak memory on long meshes).
         let GlobalMatrices {
             mass: full_mass,
@@ -253,6 +267,7 @@ impl ReducedModel {
             rigid_self_mass,
             gyroscopic,
             kernels,
+            force_summation,
         }
     }
 

@@ -605,6 +605,26 @@ impl<'m> Dynamics<'m> {
         }
     }
 
+    /// The equilibrium defects of the last residual's state for the force-summation recovery of
+    /// the axial force and torque ([`crate::rom::ForceSummation::defects`]), one [N, N·m] per
+    /// element into `out` (`out.len()` = elements). False, and `out` untouched, for a model
+    /// whose strains carry its loads (the unreduced model).
+    pub fn force_summation_defects(&self, out: &mut [[f64; 2]]) -> bool {
+        let Some(summation) = &self.model.force_summation else {
+            return false;
+        };
+        let state = crate::rom::FullState {
+            forces: self.f_full.as_slice(),
+            acceleration: self.a_full.as_slice(),
+            velocity: self.v_full.as_slice(),
+            rigid_acceleration: self.rigid_axial[1],
+            damping: self.effects.damping,
+            gravity: self.effects.gravity,
+        };
+        summation.defects(&state, out);
+        true
+    }
+
     /// What the time history records at a state.
     pub fn observe(&mut self, q: &DVector<f64>, v: &DVector<f64>, a: &DVector<f64>) -> Observation {
         self.evaluate(q, v, a);

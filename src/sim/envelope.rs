@@ -153,8 +153,17 @@ impl StressEnvelope {
     /// its elastic θx). The mean is weighted by the step that ends at `t` (right Riemann sum on
     /// the accepted steps).
     /// `stresses` holds the [`SectionStress`] of each kind of element (one for an envelope of
-    /// [`Self::new`]).
-    pub fn record(&mut self, t: f64, q_full: &[f64], spin: f64, stresses: &[SectionStress]) {
+    /// [`Self::new`]). `defects` holds each element's force-summation defect [N, N·m]
+    /// ([`crate::rom::ForceSummation`]): its axial force and torque are the strain's less the
+    /// defect; empty: the strain's (the unreduced model).
+    pub fn record(
+        &mut self,
+        t: f64,
+        q_full: &[f64],
+        spin: f64,
+        stresses: &[SectionStress],
+        defects: &[[f64; 2]],
+    ) {
         if t < self.from_s {
             return;
         }
@@ -164,7 +173,10 @@ impl StressEnvelope {
         for e in 0..self.position_m.len() {
             let stress = &stresses[self.kind_of[e]];
             let d = &q_full[DOF_PER_NODE * e..DOF_PER_NODE * (e + 2)];
-            let strains = stress.strains(d);
+            let mut strains = stress.strains(d);
+            if let Some(&[axial, torque]) = defects.get(e) {
+                stress.balance(&mut strains, axial, torque);
+            }
             let l = stress.loads_of(&strains);
             self.max_von_mises_pa[e] = self.max_von_mises_pa[e].max(l.von_mises);
             self.mean_von_mises_pa[e] += h * l.von_mises;

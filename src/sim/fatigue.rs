@@ -151,6 +151,7 @@ mod tests {
                 d,
                 spin_rate * std::f64::consts::TAU * t,
                 std::slice::from_ref(&stress),
+                &[],
             );
         }
         envelope.finish();

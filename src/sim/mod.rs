@@ -71,6 +71,8 @@ pub use stability::{MAX_UNKNOWNS, NEUTRAL, SteadyStability, steady_stability};
 /// 12: the stresses take the element average of the membrane strain instead of its midpoint
 /// value (`fem::stress`): the axial force is the one the element's nodes carry (the midpoint
 /// read up to EA(κL)²/24 less tension where the string bends: 83.3-88.5 kN of compression along
-/// the 1 km well whose equilibrium bounds it to 86.3-86.9 kN, by the finite-element model);
-/// max_compression_n, the buckling utilizations, von Mises and fatigue move; the dynamics do not.
+/// the 1 km well whose equilibrium bounds it to 86.3-86.9 kN, by the finite-element model), and
+/// a reduced model's axial force and torque are summed from the loads below each section
+/// (`rom::ForceSummation`; its strains read 65.2-91.6 kN there): max_compression_n, the
+/// buckling utilizations, von Mises and fatigue move; the dynamics do not.
 pub const SIMULATOR_REVISION: u32 = 12;

@@ -665,6 +665,8 @@ struct Recorder<S> {
     gaps: Vec<f64>,
     envelope: StressEnvelope,
     stress: Vec<SectionStress>,
+    /// The force-summation defects of each element ([`Dynamics::force_summation_defects`]).
+    defects: Vec<[f64; 2]>,
     /// Radial displacement at each probe of the current row, m.
     probe_radial: Vec<f64>,
 }
@@ -713,8 +715,18 @@ impl<S: Sink> Recorder<S> {
             probe_radial: &self.probe_radial,
         });
         // The rigid spin Ω t: with the elastic θx, the sections' absolute rotation (fatigue).
-        self.envelope
-            .record(t, sys.displacement_full(), op.omega * t, &self.stress);
+        let defects: &[[f64; 2]] = if sys.force_summation_defects(&mut self.defects) {
+            &self.defects
+        } else {
+            &[]
+        };
+        self.envelope.record(
+            t,
+            sys.displacement_full(),
+            op.omega * t,
+            &self.stress,
+            defects,
+        );
         self.last = Some((t, obs));
         go_on
     }
@@ -1010,6 +1022,7 @@ pub fn simulate_into<S: Sink>(
                 .map(|kind| SectionStress::new(&sections[kind.section], kind.element.length))
                 .collect()
         },
+        defects: vec![[0.0; 2]; model.elements()],
     };
     let preloaded = matches!(initial, InitialState::Preloaded);
     let free = model.string.top.is_free();

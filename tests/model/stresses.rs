@@ -39,12 +39,17 @@ fn steady_drilling_stresses_match_the_closed_form_along_the_whole_string() {
     };
     // 1 ms: the steady state is unstable (velocity-weakening bit, no damping), and the stick-slip
     // that grows out of it moves the torque by 1.7 % within 50 ms; the first millisecond is the
-    // steady state to 1e-4.
+    // steady state to 1e-4. Newton is converged to 1e-9 of its default tolerance's scale: the
+    // reduced model's axial force and torque sum the loads of the last Newton residual
+    // (`rom::ForceSummation`), whose state differs from the accepted one by the last correction
+    // (with the default 1e-3, up to 110 N of the 55 kN here, 2e-3, as the top drive's force).
+    let mut settings = RunSettings::new(1e-3, p.simulation.time_step);
+    settings.newmark.newton_tol = 1e-9;
     let out = simulate(
         &model,
         op,
         Effects::ALL,
-        &RunSettings::new(1e-3, p.simulation.time_step),
+        &settings,
         InitialState::Preloaded,
         |_| {},
     );
@@ -63,19 +68,27 @@ fn steady_drilling_stresses_match_the_closed_form_along_the_whole_string() {
     let von_mises = (sigma * sigma + 3.0 * tau * tau).sqrt();
     let env = &out.envelope;
     assert_eq!(env.position_m.len(), 30);
+    // To 3e-4 and 5e-4 (the compression): the reduced model's axial force and torque are summed
+    // from the loads (`rom::ForceSummation`) and carry the residual of its start, in equilibrium
+    // to its own tolerance (22.7 N of the compression, 4.1e-4, at the bit's element at t = 0;
+    // 2-6 N at the steps after it).
     for (k, s) in env.max_von_mises_pa.iter().enumerate() {
         assert!(
-            (s / von_mises - 1.0).abs() < 1e-4,
+            (s / von_mises - 1.0).abs() < 3e-4,
             "element {k}: {s} Pa against {von_mises} Pa"
         );
         // N = E∫E_xx dA = EA(ε + ½ε²) + EI κ² (the helix of the twisted fibres).
         let compression = -(e * a * (eps + 0.5 * eps * eps) + e * (j / 2.0) * kappa * kappa);
-        assert!((env.max_compression_n[k] / compression - 1.0).abs() < 1e-4);
+        assert!(
+            (env.max_compression_n[k] / compression - 1.0).abs() < 5e-4,
+            "element {k}: {} N against {compression} N",
+            env.max_compression_n[k]
+        );
         assert!((env.max_torque_nm[k] / tob - 1.0).abs() < 1e-4);
     }
     // The metrics, with the S-135 grade's 135 ksi = 930.8 MPa.
     let m = metrics::of_run(&out, &p.model, op, 0.0, None).unwrap();
-    assert!((m.max_von_mises_pa / von_mises - 1.0).abs() < 1e-4);
+    assert!((m.max_von_mises_pa / von_mises - 1.0).abs() < 3e-4);
     assert!(
         (m.von_mises_safety_factor - 135.0 * 6.894757293168e6 / m.max_von_mises_pa).abs() < 1e-9
     );
@@ -194,38 +207,54 @@ fn simulate_shows_the_safety_factor_and_warns_at_yield() {
     );
 }
 
-/// The axial force along a string of sections at its steady drilling state, from the
-/// finite-element model without reduction, against equilibrium: the string turns, so the wall's
-/// friction is almost all tangential, and the axial force can only run from the WOB at the bit to
-/// the top push (0.6 % apart on the 1 km well). Where the string bends (its section boundaries and
-/// the stabiliser, on 12 m drill-pipe elements), the membrane strain taken at the element's
-/// midpoint fell short of the average the nodes carry by EA(κL)²/24 and read 83.3-88.5 kN; the
-/// element average (`fem::stress`) is within 0.02 % of the band.
+/// The axial force along a string of sections at its steady drilling state against equilibrium:
+/// the string turns, so the wall's friction is almost all tangential, and the axial force can
+/// only run from the WOB at the bit to the top push (0.6 % apart on the 1 km well).
+/// - The finite-element model without reduction: where the string bends (its section boundaries
+///   and the stabiliser, on 12 m drill-pipe elements), the membrane strain taken at the element's
+///   midpoint fell short of the average the nodes carry by EA(κL)²/24 and read 83.3-88.5 kN; the
+///   element average (`fem::stress`) is within 0.02 % of the band.
+/// - The reduced model (the file's default basis): its strains read 65.2-91.6 kN (the bending
+///   shapes' membrane strain has no axial companion in the basis); the force-summation recovery
+///   (`rom::ForceSummation`) is within 0.02 % of the band, and its torque at the top element is
+///   the top drive's torque less the friction of the top node's half element.
 #[test]
 fn the_axial_force_along_a_string_of_sections_stays_between_the_wob_and_the_top_push() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/field/well_1km.toml");
     let p = Problem::load(&path).unwrap();
-    let model = drillopt::sim::ModelKind::Unreduced
-        .build(&p.model, &p.mesh)
-        .unwrap();
-    let op = p.operating_point;
-    let out = simulate(
-        &model,
-        op,
-        Effects::ALL,
-        &RunSettings::new(0.01, p.simulation.time_step),
-        InitialState::Preloaded,
-        |_| {},
-    );
-    assert!(out.error.is_none(), "{:?}", out.error);
-    let m = metrics::of_run(&out, &p.model, op, 0.0, None).unwrap();
-    let (wob, top) = (m.mean_wob_n, m.mean_top_force_n);
-    assert!(wob > 80e3 && (top / wob - 1.0).abs() < 0.01, "{wob} {top}");
-    let (low, high) = (wob.min(top) * (1.0 - 1e-3), wob.max(top) * (1.0 + 1e-3));
-    for (x, &n) in out.envelope.position_m.iter().zip(&out.envelope.max_compression_n) {
+    for kind in [
+        drillopt::sim::ModelKind::Unreduced,
+        drillopt::sim::ModelKind::Reduced,
+    ] {
+        let model = kind.build(&p.model, &p.mesh).unwrap();
+        let op = p.operating_point;
+        let out = simulate(
+            &model,
+            op,
+            Effects::ALL,
+            &RunSettings::new(0.01, p.simulation.time_step),
+            InitialState::Preloaded,
+            |_| {},
+        );
+        assert!(out.error.is_none(), "{kind:?}: {:?}", out.error);
+        let m = metrics::of_run(&out, &p.model, op, 0.0, None).unwrap();
+        let (wob, top) = (m.mean_wob_n, m.mean_top_force_n);
+        assert!(wob > 80e3 && (top / wob - 1.0).abs() < 0.01, "{wob} {top}");
+        let (low, high) = (wob.min(top) * (1.0 - 1e-3), wob.max(top) * (1.0 + 1e-3));
+        let env = &out.envelope;
+        for (x, &n) in env.position_m.iter().zip(&env.max_compression_n) {
+            assert!(
+                (low..=high).contains(&n),
+                "{kind:?}: {n} N of compression at {x:.1} m, outside [{low}, {high}] N"
+            );
+        }
+        // The torque of the top element: the top drive's, less the wall's friction torque on
+        // the top node's half element (μ w R_ext per metre, about 0.1 kN·m here).
+        let top_torque = m.mean_top_torque_nm;
         assert!(
-            (low..=high).contains(&n),
-            "{n} N of compression at {x:.1} m, outside [{low}, {high}] N"
+            (env.max_torque_nm[0] / top_torque - 1.0).abs() < 0.03,
+            "{kind:?}: {} N·m at the top element, {top_torque} N·m at the top drive",
+            env.max_torque_nm[0]
         );
     }
 }
