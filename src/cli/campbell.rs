@@ -234,6 +234,18 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         print_table(&report, &out);
+        if args.multiple.is_none() {
+            let k = &problem.campbell;
+            if k.source == crate::model::MultipleSource::Blades {
+                println!(
+                    "K = {}: the bit's blade count (model.bit.blades)",
+                    crate::units::short(k.excitation_multiple)
+                );
+            }
+            if let Some(note) = k.note(problem.model.bit.law().name()) {
+                println!("note: {note} (or --multiple)");
+            }
+        }
     }
     Ok(())
 }

@@ -536,6 +536,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         problem.model.top,
         &section_lines(&problem.model, problem.mesh.elements, units),
         units,
+        (problem.campbell).note(problem.model.bit.law().name()),
     );
     if let Some(w) = depth_of_cut_warning(&problem.model) {
         eprintln!("{w}");
@@ -675,6 +676,7 @@ fn print_summary(
     top: TopDrive,
     sections: &[String],
     u: UnitSystem,
+    campbell_note: Option<String>,
 ) {
     let st = s.solver;
     // A value in SI shown with its unit: "12.345 ft/h".
@@ -785,10 +787,11 @@ fn print_summary(
         // As solve warns at its optimum: a rotation speed near a critical speed.
         if m.critical_speed_margin < crate::solve::CRITICAL_SPEED_WARNING {
             eprintln!(
-                "warning: Ω is {:.1} % from a critical speed of the string (critical_speed_margin {:.4}, below {}): `drillopt campbell` lists them",
+                "warning: Ω is {:.1} % from a critical speed of the string (critical_speed_margin {:.4}, below {}): `drillopt campbell` lists them{}",
                 100.0 * m.critical_speed_margin,
                 m.critical_speed_margin,
-                crate::solve::CRITICAL_SPEED_WARNING
+                crate::solve::CRITICAL_SPEED_WARNING,
+                campbell_note.map_or(String::new(), |n| format!(" ({n})"))
             );
         }
         // The ratio is the rate law's slope at the feed the bit drills (V0, or the mean ROP of a

@@ -19,8 +19,8 @@ pub use buckling::BucklingLoads;
 pub use law::{Chosen, Law, LawEntry};
 pub use parameters::{Enters, ParameterKey, ParameterSpec};
 pub use params::{
-    API_GRADES, CampbellSettings, Drillstring, Mesh, OperatingPoint, Pipe, SampleInterval,
-    SetPoint, SetPointValue, Simulation, Start, StringSection,
+    API_GRADES, CampbellSettings, Drillstring, Mesh, MultipleSource, OperatingPoint, Pipe,
+    SampleInterval, SetPoint, SetPointValue, Simulation, Start, StringSection,
 };
 pub use section::{Section, cowper_shear_factor};
 pub use top::{

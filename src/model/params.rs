@@ -464,19 +464,50 @@ pub struct CampbellSettings {
     /// the tri-cone bit, whose three cones leave a three-lobed bottom-hole pattern that excites
     /// the string at three times the rotation frequency (Dareing, J. Pet. Tech. 36, 1984; Spanos,
     /// Chevallier, Politis & Payne, *Oil and gas well drilling: a vibrations perspective*, Shock
-    /// Vib. Digest 35, 2003). A PDC bit with n blades excites n×.
+    /// Vib. Digest 35, 2003). A PDC bit with n blades excites n×: a depth-of-cut bit law with a
+    /// blade count (`model.bit.blades`) gives the default n instead.
     pub excitation_multiple: f64,
+    /// Where `excitation_multiple` comes from (not part of the problem's canonical form: the
+    /// value is).
+    #[serde(skip)]
+    pub source: MultipleSource,
+}
+
+/// Where a problem's excitation multiple K comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MultipleSource {
+    /// `[campbell] excitation_multiple` of the file.
+    File,
+    /// The bit law's blade count (`model.bit.blades`).
+    Blades,
+    /// Neither: the tri-cone's 3.
+    #[default]
+    Default,
 }
 
 impl CampbellSettings {
     /// The tri-cone bit's 3×.
     pub const DEFAULT_MULTIPLE: f64 = 3.0;
+
+    /// What a driller should know of K besides its value, or `None`: the tri-cone's default 3
+    /// under a bit law `bit_law` (its registry name) that models a PDC bit without knowing its
+    /// blades (`detournay`), whose blade count is the multiple it excites.
+    pub fn note(&self, bit_law: &str) -> Option<String> {
+        match (self.source, bit_law) {
+            (MultipleSource::Default, "detournay") => Some(format!(
+                "K = {} is the default, a tri-cone bit's; this file's bit law (detournay) is a PDC bit's, which excites its blade count: give it as [campbell] excitation_multiple",
+                Self::DEFAULT_MULTIPLE
+            )),
+            _ => None,
+        }
+    }
 }
 
 impl Default for CampbellSettings {
     fn default() -> Self {
         CampbellSettings {
             excitation_multiple: Self::DEFAULT_MULTIPLE,
+            source: MultipleSource::Default,
         }
     }
 }

@@ -500,7 +500,7 @@ pub static KEYS: [Key; 37] = [
             3.0,
             "the second excitation line K×Ω of the Campbell diagram and critical_speed_margin",
         ),
-        Omitted::Default,
+        Omitted::Else("the bit's `model.bit.blades` under a depth-of-cut law (`rgd`), else 3"),
     ),
     // Depth of cut per revolution 2π V0/Ω: a limit below 1 µm is finer than any cutter's edge,
     // above 10 cm taller than any cutter (PDC cutters are 8-19 mm).

@@ -9,8 +9,8 @@ use crate::model::bit::BIT_LAWS;
 use crate::model::law::{Chosen, Law, LawEntry, find};
 use crate::model::wall::{WALL_LAWS, WallFriction, WallStiffnessPer};
 use crate::model::{
-    BasisSpec, CampbellSettings, Drillstring, Mesh, OperatingPoint, Pipe, SampleInterval,
-    Simulation, Start, cowper_shear_factor,
+    BasisSpec, CampbellSettings, Drillstring, Mesh, MultipleSource, OperatingPoint, Pipe,
+    SampleInterval, Simulation, Start, cowper_shear_factor,
 };
 use serde::Deserialize;
 use std::path::Path;
@@ -473,7 +473,8 @@ pub(super) fn problem(
     ) {
         s.explore = super::validate_explore::explore(&c, e, mesh.as_ref(), simulation.as_ref(), s);
     }
-    let campbell = c.section(campbell(&c, raw.campbell.as_ref()));
+    let blades = model.as_ref().and_then(|m| m.bit.blades());
+    let campbell = c.section(campbell(&c, raw.campbell.as_ref(), blades));
     // The name is a folder of results/: what a filesystem takes as one folder name (at most 255
     // bytes on the usual ones; a NUL or a 300-character name failed only when the output was made).
     let name = match raw.name {
@@ -520,13 +521,28 @@ pub(super) fn problem(
     })
 }
 
-/// `[campbell]`: the excitation multiple, a number in [1, 50] (default 3, a tri-cone bit).
-fn campbell(c: &Checker, s: Option<&CampbellSection>) -> Result<CampbellSettings, ProblemError> {
-    Ok(CampbellSettings {
-        excitation_multiple: c.key_value(
-            "campbell.excitation_multiple",
-            s.and_then(|s| s.excitation_multiple.as_ref()),
-        )?,
+/// `[campbell]`: the excitation multiple, a number in [1, 50]; without it the bit's blade count
+/// `blades` of a depth-of-cut law, else 3 (a tri-cone bit).
+fn campbell(
+    c: &Checker,
+    s: Option<&CampbellSection>,
+    blades: Option<u32>,
+) -> Result<CampbellSettings, ProblemError> {
+    let raw = s.and_then(|s| s.excitation_multiple.as_ref());
+    let excitation_multiple = c.key_value("campbell.excitation_multiple", raw)?;
+    Ok(match (raw, blades) {
+        (Some(_), _) => CampbellSettings {
+            excitation_multiple,
+            source: MultipleSource::File,
+        },
+        (None, Some(n)) => CampbellSettings {
+            excitation_multiple: f64::from(n),
+            source: MultipleSource::Blades,
+        },
+        (None, None) => CampbellSettings {
+            excitation_multiple,
+            source: MultipleSource::Default,
+        },
     })
 }
 

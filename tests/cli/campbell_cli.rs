@@ -129,6 +129,47 @@ fn the_excitation_multiple_is_read_and_checked_in_the_problem_file() {
     );
 }
 
+/// Without `[campbell] excitation_multiple`: a depth-of-cut bit's blade count (n blades excite
+/// n×), else the tri-cone's 3, which a PDC bit's rate law (detournay) says is a default.
+#[test]
+fn the_excitation_multiple_defaults_to_the_blades_of_a_bit_that_has_them() {
+    use drillopt::model::MultipleSource;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
+    let load = |file: &str, extra: &str| {
+        let text = std::fs::read_to_string(dir.join(file)).unwrap();
+        drillopt::problem::Problem::from_toml(
+            &format!(
+                "{text}
+{extra}"
+            ),
+            &dir.join(file),
+        )
+        .unwrap()
+    };
+    // seed_rgd.toml: 4 blades.
+    let rgd = load("seed_rgd.toml", "");
+    assert_eq!(rgd.campbell.excitation_multiple, 4.0);
+    assert_eq!(rgd.campbell.source, MultipleSource::Blades);
+    assert_eq!(rgd.campbell.note(rgd.model.bit.law().name()), None);
+    let given = load("seed_rgd.toml", "[campbell]\nexcitation_multiple = 5");
+    assert_eq!(given.campbell.excitation_multiple, 5.0);
+    assert_eq!(given.campbell.source, MultipleSource::File);
+    // seed_detournay.toml: a PDC bit's rate law, no blades: 3, and a note saying why.
+    let pdc = load("seed_detournay.toml", "");
+    assert_eq!(pdc.campbell.excitation_multiple, 3.0);
+    let note = pdc.campbell.note(pdc.model.bit.law().name()).unwrap();
+    assert!(
+        note.contains("excitation_multiple") && note.contains("blade count"),
+        "{note}"
+    );
+    let given = load("seed_detournay.toml", "[campbell]\nexcitation_multiple = 6");
+    assert_eq!(given.campbell.note(given.model.bit.law().name()), None);
+    // The seed's exponential law (no bit type): 3, no note.
+    let seed = load("seed_mc2014.toml", "");
+    assert_eq!(seed.campbell.source, MultipleSource::Default);
+    assert_eq!(seed.campbell.note(seed.model.bit.law().name()), None);
+}
+
 #[test]
 fn risks_use_the_proximity_not_the_margin() {
     let text = std::fs::read_to_string(common::SEED).unwrap();
