@@ -244,6 +244,9 @@ fn print_table(
             stability_reference(basis, fe, r.steady_state_unreduced_refined_mesh)
         );
     }
+    if let Some([basis, fe]) = r.steady_loads {
+        println!("{}", steady_loads_reference(&basis, &fe, units));
+    }
     if !r.smoothing_keys.is_empty() {
         println!(
             "smoothing: {} divided by {}",
@@ -332,6 +335,51 @@ fn eigenvalue_text(s: crate::sim::SteadyStability) -> String {
     format!("{rate:.3} 1/s {word} ({:.1} Hz)", s.frequency_hz)
 }
 
+/// Relative difference beyond which [`steady_loads_reference`] says the basis misplaces the
+/// steady state's loads.
+const STEADY_LOADS_TOLERANCE: f64 = 0.05;
+
+/// The lines that compare the steady drilling state's loads of the basis with the
+/// finite-element model's on the same mesh (`verify::steady_loads`), naming those that differ by
+/// more than [`STEADY_LOADS_TOLERANCE`].
+fn steady_loads_reference(
+    basis: &verify::SteadyLoads,
+    fe: &verify::SteadyLoads,
+    units: UnitSystem,
+) -> String {
+    let mut parts = Vec::new();
+    let mut off = Vec::new();
+    for ((key, b), (_, f)) in basis.named().into_iter().zip(fe.named()) {
+        let d = crate::report::MetricDisplay::of_in(key, units);
+        let change = (b - f) / f.abs().max(f64::MIN_POSITIVE);
+        parts.push(format!(
+            "{} {} / {} {} ({:+.1} %)",
+            d.name,
+            crate::units::significant(d.value(b)),
+            crate::units::significant(d.value(f)),
+            d.unit,
+            100.0 * change
+        ));
+        if change.abs() > STEADY_LOADS_TOLERANCE {
+            off.push(d.name);
+        }
+    }
+    let head = format!(
+        "steady drilling (the first {} s from the pre-loaded start), this basis / the finite-element model on the same mesh: {}",
+        verify::STEADY_LOADS_WINDOW_S,
+        parts.join(", ")
+    );
+    if off.is_empty() {
+        format!("{head}: within {:.0} %", 100.0 * STEADY_LOADS_TOLERANCE)
+    } else {
+        format!(
+            "{head}\nwarning: the basis does NOT place the steady state's loads where the mesh does ({} more than {:.0} % off: the string's contacts, and with them the wall's friction torque, lie elsewhere); the refinements below cannot show it when the refined basis misses them too; compare along the string with `drillopt simulate --unreduced` (stress_envelope.csv)",
+            off.join(", "),
+            100.0 * STEADY_LOADS_TOLERANCE
+        )
+    }
+}
+
 /// The line that compares the basis' steady-state eigenvalue with the finite-element model's on
 /// the base mesh and, when computed, on the refined mesh: which of the two (the mesh, the
 /// basis) does not hold the mode that decides stability.
@@ -406,5 +454,45 @@ mod stability_reference_tests {
             stability_reference(at(-1.2e-5, 67.8), at(1.2e-5, 67.8), Some(at(-1.2e-3, 67.8)));
         assert!(line.contains("the basis holds the mode"), "{line}");
         assert!(eigenvalue_text(at(-0.017, 3.8)).contains("0.017 1/s decay"));
+    }
+}
+
+#[cfg(test)]
+mod steady_loads_tests {
+    use super::*;
+    use crate::verify::SteadyLoads;
+
+    #[test]
+    fn the_line_names_the_loads_the_basis_misplaces() {
+        // well_1km's figures at its operating point (the first 10 ms, 104 elements).
+        let fe = SteadyLoads {
+            top_torque_nm: 8922.96,
+            top_force_n: 86843.4,
+            peak_wall_force_n: 13425.9,
+            max_compression_n: 86854.5,
+            max_torque_nm: 8925.59,
+            max_von_mises_pa: 88.8773e6,
+        };
+        let basis = SteadyLoads {
+            peak_wall_force_n: 19145.5,
+            top_torque_nm: 9015.11,
+            ..fe
+        };
+        let line = steady_loads_reference(&basis, &fe, UnitSystem::Metric);
+        assert!(
+            line.contains("peak wall force 19.1455 / 13.4259 kN (+42.6 %)"),
+            "{line}"
+        );
+        assert!(line.contains("(+1.0 %)"), "the top torque: {line}");
+        assert!(
+            line.contains("warning: the basis does NOT place")
+                && line.contains("(peak wall force more than 5 % off"),
+            "{line}"
+        );
+        let line = steady_loads_reference(&fe, &fe, UnitSystem::Metric);
+        assert!(
+            line.ends_with(": within 5 %") && !line.contains("warning"),
+            "{line}"
+        );
     }
 }

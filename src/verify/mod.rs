@@ -222,6 +222,76 @@ pub struct VerifyRun {
     /// base run and mesh refinement whose mesh is small enough ([`unreduced_steady_state`]).
     #[serde(skip)]
     pub steady_state_unreduced: Option<crate::sim::SteadyStability>,
+    /// The steady drilling state's loads of the run's model and of the finite-element model on
+    /// its mesh ([`steady_loads`]), for the reduced base run whose mesh is small enough.
+    #[serde(skip)]
+    pub steady_loads: Option<[SteadyLoads; 2]>,
+}
+
+/// The loads of the steady drilling state: the first [`STEADY_LOADS_WINDOW_S`] of a run from
+/// the pre-loaded start, as `simulate` computes them (SI).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SteadyLoads {
+    /// The top drive's torque and force, N·m and N.
+    pub top_torque_nm: f64,
+    pub top_force_n: f64,
+    /// The largest wall force at a node, N.
+    pub peak_wall_force_n: f64,
+    /// The largest compression and torque along the string, N and N·m.
+    pub max_compression_n: f64,
+    pub max_torque_nm: f64,
+    /// The largest von Mises stress along the string, Pa.
+    pub max_von_mises_pa: f64,
+}
+
+impl SteadyLoads {
+    /// The loads by the keys of the metrics they are (the metric catalogue's names and units).
+    pub fn named(&self) -> [(&'static str, f64); 6] {
+        [
+            ("mean_top_torque_nm", self.top_torque_nm),
+            ("mean_top_force_n", self.top_force_n),
+            ("peak_wall_force_n", self.peak_wall_force_n),
+            ("max_compression_n", self.max_compression_n),
+            ("max_torque_nm", self.max_torque_nm),
+            ("max_von_mises_pa", self.max_von_mises_pa),
+        ]
+    }
+}
+
+/// The window of [`steady_loads`], s: a few steps from the pre-loaded start.
+pub const STEADY_LOADS_WINDOW_S: f64 = 0.01;
+
+/// The loads of the steady drilling state of `model` (of `string`) at `op` ([`SteadyLoads`]),
+/// with the nominal step `time_step` (s); `None` when the start or the run fails. The reduced
+/// model's against the finite-element model's tell whether the basis places the string's
+/// contacts, and with them the torque and the wall forces, where the mesh does: the basis
+/// refinement cannot tell when the refined basis misses them as well.
+pub fn steady_loads(
+    model: &ReducedModel,
+    string: &crate::model::Drillstring,
+    op: OperatingPoint,
+    time_step: f64,
+) -> Option<SteadyLoads> {
+    let out = simulate(
+        model,
+        op,
+        Effects::ALL,
+        &RunSettings::new(STEADY_LOADS_WINDOW_S, time_step),
+        InitialState::Preloaded,
+        |_| {},
+    );
+    if out.error.is_some() {
+        return None;
+    }
+    let m = metrics::of_run(&out, string, op, 0.0, None).ok()?;
+    Some(SteadyLoads {
+        top_torque_nm: m.mean_top_torque_nm,
+        top_force_n: m.mean_top_force_n,
+        peak_wall_force_n: m.peak_wall_force_n,
+        max_compression_n: m.max_compression_n,
+        max_torque_nm: m.max_torque_nm,
+        max_von_mises_pa: m.max_von_mises_pa,
+    })
 }
 
 /// The steady-state stability of the finite-element model of `string` on `elements` elements at
@@ -274,6 +344,9 @@ pub struct VerifyReport {
     /// not hold the mode that decides stability (or holds a spurious one).
     pub steady_state_unreduced: Option<crate::sim::SteadyStability>,
     pub steady_state_unreduced_refined_mesh: Option<crate::sim::SteadyStability>,
+    /// The steady drilling state's loads of the base model and of the finite-element model on
+    /// the base mesh, where affordable ([`steady_loads`]).
+    pub steady_loads: Option<[SteadyLoads; 2]>,
     pub runs: Vec<VerifyRun>,
 }
 
@@ -475,6 +548,7 @@ pub fn verify_with(
     Ok(VerifyReport {
         steady_state: base_run.steady_state,
         steady_state_unreduced: base_run.steady_state_unreduced,
+        steady_loads: base_run.steady_loads,
         steady_state_unreduced_refined_mesh: results
             .iter()
             .find(|(r, _)| r.name == Refinement::Mesh.name())
@@ -640,6 +714,23 @@ fn run_variant(
                 && !v.unreduced
             {
                 unreduced_steady_state(string, v.elements, op)
+            } else {
+                None
+            },
+            steady_loads: if settings.stability_reference
+                && v.name == "base"
+                && !v.unreduced
+                && 6 * v.elements <= crate::sim::MAX_UNKNOWNS
+            {
+                let step = problem.simulation.time_step;
+                ReducedModel::unreduced(string, v.elements)
+                    .ok()
+                    .and_then(|fe| {
+                        Some([
+                            steady_loads(&model, string, op, step)?,
+                            steady_loads(&fe, string, op, step)?,
+                        ])
+                    })
             } else {
                 None
             },
