@@ -25,8 +25,8 @@ pub struct Cli {
     pub command: Command,
     /// Units of the terminal, the CSV tables (evaluations.csv) and the plots: `metric` (rpm, m/h,
     /// kN, kN·m, MPa, m, mm, kW) or `field` (oilfield units: rpm, ft/h, klbf, kft·lbf, psi, ft,
-    /// in, hp; also `oilfield`). The JSON results and timeseries.csv stay in SI, with the unit
-    /// in each key
+    /// in, hp; also `oilfield`). The JSON results, timeseries.csv and stress_envelope.csv stay in
+    /// SI, with the unit in each key or column
     #[arg(long, global = true, value_enum, default_value = "metric")]
     pub units: Units,
 }

@@ -507,7 +507,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
     // Plots and the stress envelope need a history: a start that fails leaves one row.
     if series.len() >= 2 {
         let s = &series;
-        report::plot_bit_axial(s, &op, units, &out.join("bit_axial.svg"))?;
+        report::plot_bit_axial(s, &op, problem.model.top, units, &out.join("bit_axial.svg"))?;
         report::plot_bit_rotation(s, &op, units, &out.join("bit_rotation.svg"))?;
         // Each probe's wall at its own gap: the hole less its section's outer radius (the
         // smallest gap of the string is a stabiliser's, not the drill pipe's).
@@ -653,8 +653,10 @@ fn section_lines(
             let count = kinds.iter().filter(|&&kind| layout.kinds()[kind].section == k).count();
             let weight = u.of(LineLoad, section.weight_mass() * sub.gravity);
             let weight_unit = u.unit(LineLoad);
+            // Inches to the thousandth, as the pipe tables give them (4.276 in); mm to 0.01.
+            let digits = if u == UnitSystem::Field { 3 } else { 2 };
             format!(
-                "  section {k} \"{}\": {:.2} {}, OD {:.2} {}, ID {:.2} {}, {:.2} {} of steel, buoyed weight {weight:.1} {weight_unit}, {count} elements",
+                "  section {k} \"{}\": {:.2} {}, OD {:.digits$} {}, ID {:.digits$} {}, {:.2} {} of steel, buoyed weight {weight:.1} {weight_unit}, {count} elements",
                 string.sections[k].name,
                 u.of(Position, sub.length),
                 u.unit(Position),

@@ -559,6 +559,14 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     let borehole_radius = c.positive("model.borehole.radius", &m.borehole.radius, Length)?;
     let sections =
         super::validate_sections::sections(c, &m.section, &pipe, length, borehole_radius);
+    // Within the rounding the check allows, the string is the sum of its sections (the length
+    // as written when the two agree to round-off).
+    let total: f64 = sections.iter().map(|s| s.length).sum();
+    let length = if sections.is_empty() || (total - length).abs() <= 1e-9 * length {
+        length
+    } else {
+        total
+    };
     // The sizes: [model.pipe]'s for a string of one section, each section's otherwise (the
     // first section's then stand in [model.pipe], whose sizes nothing else reads).
     for (key, given) in [

@@ -21,8 +21,10 @@ use crate::units::{short, show};
 /// collars, stabilisers, motor).
 pub const MAX_SECTIONS: usize = 200;
 
-/// Relative tolerance on the sum of the section lengths against `[model] length`.
-const LENGTH_TOLERANCE: f64 = 1e-9;
+/// Tolerance on the sum of the section lengths against `[model] length`, m: the rounding of a
+/// length written in feet or inches to two decimals (±0.005 ft = 1.5 mm over a section, a
+/// few sections) is accepted, and the string is the sum of its sections.
+pub const LENGTH_TOLERANCE_M: f64 = 0.01;
 
 /// The sections of `tables` (empty when the file gives none), each refusal recorded in `c`.
 pub(super) fn sections(
@@ -68,15 +70,14 @@ pub(super) fn sections(
         );
     }
     let total: f64 = sections.iter().map(|s| s.length).sum();
-    if total.is_finite() && length.is_finite() && (total - length).abs() > LENGTH_TOLERANCE * length
-    {
+    if total.is_finite() && length.is_finite() && (total - length).abs() > LENGTH_TOLERANCE_M {
         let list: Vec<String> = (sections.iter())
             .map(|s| format!("{} {} m", s.name, short(s.length)))
             .collect();
         c.record(
             "model.length",
             format!(
-                "must be the sum of the sections' lengths ({}: {} m), got {} m",
+                "must be the sum of the sections' lengths ({}: {} m, within {LENGTH_TOLERANCE_M} m), got {} m",
                 list.join(" + "),
                 short(total),
                 short(length)

@@ -101,15 +101,24 @@ pub struct Panel<'a> {
 }
 
 /// Bit displacement u(L) \[m or ft\] and bit velocity u̇(L) \[m/h or ft/h\] against t \[s\]
-/// (paper Fig. 3) of a run at `op` (SI), with the imposed V0 as a reference line.
+/// (paper Fig. 3) of a run at `op` (SI) under the top drive `top`, with V0 as a reference line:
+/// imposed at the top by a feed, the set-point of an autodriller (none for a hook load).
 pub fn plot_bit_axial(
     series: &TimeSeries,
     op: &OperatingPoint,
+    top: crate::model::TopDrive,
     units: UnitSystem,
     path: &Path,
 ) -> Result<(), PlotError> {
-    plot_bit_figure(&BIT_AXIAL, series, op, units, path)
+    let role = match top {
+        crate::model::TopDrive::Autodriller(_) => "the autodriller's set-point",
+        _ => IMPOSED,
+    };
+    plot_bit_figure(&BIT_AXIAL, series, op, role, units, path)
 }
+
+/// What the reference line of a bit figure is, by default.
+const IMPOSED: &str = "imposed at the top";
 
 /// Bit rotation θx(L) \[rev\] and angular velocity θ̇x(L) \[rpm\] against t \[s\] (paper
 /// Fig. 4) of a run at `op` (SI), with the imposed Ω as a reference line.
@@ -119,7 +128,7 @@ pub fn plot_bit_rotation(
     units: UnitSystem,
     path: &Path,
 ) -> Result<(), PlotError> {
-    plot_bit_figure(&BIT_ROTATION, series, op, units, path)
+    plot_bit_figure(&BIT_ROTATION, series, op, IMPOSED, units, path)
 }
 
 /// The unit of a channel: a quantity of the unit system, or a fixed unit with its factor from
@@ -199,13 +208,14 @@ fn plot_bit_figure(
     figure: &BitFigure,
     series: &TimeSeries,
     op: &OperatingPoint,
+    role: &str,
     units: UnitSystem,
     path: &Path,
 ) -> Result<(), PlotError> {
     let (symbol, imposed) = figure.imposed;
     let (rate_unit, rate_factor) = figure.rate.3.in_system(units);
     let value = imposed(op).map(|v| v * rate_factor);
-    let label = value.map(|v| format!("{symbol} = {} {rate_unit} (imposed at the top)", short(v)));
+    let label = value.map(|v| format!("{symbol} = {} {rate_unit} ({role})", short(v)));
     let reference = value.zip(label.as_deref());
     let labels = [figure.coordinate, figure.rate].map(|(_, symbol, _, unit)| {
         let (unit, factor) = unit.in_system(units);
@@ -439,6 +449,7 @@ fn draw_panel(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::TopDrive;
     use crate::report::testdata::{GAP, OP, PROBE_X, synthetic_series};
 
     fn read(path: &Path) -> String {
@@ -462,7 +473,7 @@ mod tests {
         let s = synthetic_series(100_000);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("fig/bit_axial.svg");
-        plot_bit_axial(&s, &OP, UnitSystem::Metric, &path).unwrap();
+        plot_bit_axial(&s, &OP, TopDrive::Feed, UnitSystem::Metric, &path).unwrap();
         let svg = read(&path);
         assert!(svg.starts_with("<svg"), "{}", &svg[..svg.len().min(200)]);
         assert!(svg.trim_end().ends_with("</svg>"));
@@ -493,7 +504,7 @@ mod tests {
         s.bit_velocity.iter_mut().for_each(|v| *v = OP.v0);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("bit_axial.svg");
-        plot_bit_axial(&s, &OP, UnitSystem::Field, &path).unwrap();
+        plot_bit_axial(&s, &OP, TopDrive::Feed, UnitSystem::Field, &path).unwrap();
         let svg = read(&path);
         for text in [
             "\u{3a9} = 95.49 rpm, V0 = 118.11 ft/h",
@@ -521,9 +532,31 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("bit_axial.svg");
         let hook = OperatingPoint::hook_load(OP.omega, 50e3);
-        plot_bit_axial(&s, &hook, UnitSystem::Metric, &path).unwrap();
+        plot_bit_axial(&s, &hook, TopDrive::HookLoad, UnitSystem::Metric, &path).unwrap();
         let svg = read(&path);
         assert!(svg.contains("\u{3a9} = 95.49 rpm, WOB = 50 kN"));
+        assert!(!svg.contains("imposed at the top"));
+    }
+
+    #[test]
+    fn an_autodrillers_bit_axial_plot_calls_v0_its_set_point() {
+        // helper-29: "V0 = 60 ft/h (imposed at the top)" under an autodriller, which holds V0
+        // only while the surface WOB and torque stay below their limits.
+        let s = synthetic_series(1_000);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bit_axial.svg");
+        let top = TopDrive::Autodriller(crate::model::Autodriller {
+            wob_limit: 80e3,
+            torque_limit: None,
+            power_limit: None,
+            time_constant: 1.0,
+        });
+        plot_bit_axial(&s, &OP, top, UnitSystem::Metric, &path).unwrap();
+        let svg = read(&path);
+        assert!(
+            svg.contains("V0 = 36 m/h (the autodriller&apos;s set-point)"),
+            "{svg}"
+        );
         assert!(!svg.contains("imposed at the top"));
     }
 
@@ -632,7 +665,7 @@ mod tests {
         s.bit_velocity.pop();
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("axial.svg");
-        let err = plot_bit_axial(&s, &OP, UnitSystem::Metric, &path).unwrap_err();
+        let err = plot_bit_axial(&s, &OP, TopDrive::Feed, UnitSystem::Metric, &path).unwrap_err();
         assert!(
             matches!(
                 err,
@@ -657,7 +690,7 @@ mod tests {
         s.bit_rotation.iter_mut().for_each(|v| *v = f64::NAN);
         let dir = tempfile::tempdir().unwrap();
         let axial = dir.path().join("axial.svg");
-        plot_bit_axial(&s, &OP, UnitSystem::Metric, &axial).unwrap();
+        plot_bit_axial(&s, &OP, TopDrive::Feed, UnitSystem::Metric, &axial).unwrap();
         let svg = read(&axial);
         assert!(svg.contains("Bit velocity"));
         // Both constant curves are drawn with their finite points (3000 minus the 2 skipped): 3000 is below the decimation threshold.

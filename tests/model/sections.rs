@@ -218,6 +218,25 @@ fn the_start_carries_the_soft_string_torque_and_drag_of_each_section() {
     ] {
         assert!(stdout.contains(line), "{line} not in {stdout}");
     }
+    // In oilfield units, inches to the thousandth as the pipe tables give them.
+    let field = common::drillopt(&[
+        "simulate",
+        &file,
+        "--quiet",
+        "--units",
+        "field",
+        "--duration",
+        "0.01s",
+        "--out",
+        dir.path().join("field").to_str().unwrap(),
+    ]);
+    let field = String::from_utf8_lossy(&field.stdout);
+    for line in [
+        "section 0 \"drill pipe\": 984.25 ft, OD 5.500 in, ID 4.778 in",
+        "section 1 \"collars\": 328.08 ft, OD 6.750 in, ID 2.812 in",
+    ] {
+        assert!(field.contains(line), "{line} not in {field}");
+    }
     let summary: Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
             .unwrap();
@@ -278,6 +297,37 @@ fn one_section_equal_to_the_pipe_is_the_string_without_sections() {
             "{name}: {x} vs {y}"
         );
     }
+}
+
+/// A string length written in feet to two decimals (a driller's rounding, 1.2 mm here) is the
+/// sum of the sections; 2 cm off is refused.
+#[test]
+fn a_length_rounded_in_feet_is_the_sum_of_the_sections() {
+    let text = two_sections(80, 0.3);
+    let exact = Problem::from_toml(&text, Path::new("a.toml")).unwrap();
+    let total = exact.model.length;
+    let feet = total / 0.3048;
+    let rounded = (feet * 100.0).round() / 100.0;
+    assert!(
+        (rounded * 0.3048 - total).abs() > 1e-4,
+        "the rounding must matter"
+    );
+    let written = text.replacen(
+        &format!("length = \"{} m\"", drillopt::units::short(total)),
+        &format!("length = \"{rounded:.2} ft\""),
+        1,
+    );
+    assert_ne!(written, text, "the edit applies");
+    let p = Problem::from_toml(&written, Path::new("a.toml")).unwrap();
+    assert_eq!(p.model.length, total, "the sections' sum");
+    let off = text.replacen(
+        &format!("length = \"{} m\"", drillopt::units::short(total)),
+        &format!("length = \"{} m\"", total + 0.02),
+        1,
+    );
+    let err = Problem::from_toml(&off, Path::new("a.toml")).unwrap_err();
+    assert_eq!(err.key(), Some("model.length"), "{err}");
+    assert!(err.to_string().contains("within 0.01 m"), "{err}");
 }
 
 #[test]
