@@ -72,8 +72,9 @@ pub fn write_envelope_csv(path: &Path, e: &StressEnvelope) -> io::Result<()> {
 }
 
 /// `stress_envelope.svg`: the largest and the mean von Mises stress [MPa or psi], the largest
-/// compression [kN or klbf] with the sinusoidal buckling load dashed, and the fatigue damage rate
-/// [1/h], against x [m or ft], for a run at `op`, in `units`.
+/// compression [kN or klbf] with the sinusoidal buckling load dashed, the largest torque
+/// [kN·m or kft·lbf] (the torque-and-drag check: the TOB at the bit plus the wall's friction
+/// above) and the fatigue damage rate [1/h], against x [m or ft], for a run at `op`, in `units`.
 pub fn plot_stress_envelope(
     e: &StressEnvelope,
     op: &OperatingPoint,
@@ -82,13 +83,14 @@ pub fn plot_stress_envelope(
 ) -> Result<(), PlotError> {
     let (stress_unit, stress) = units.unit_and_factor(Shown::Stress);
     let (force_unit, force) = units.unit_and_factor(Shown::Force);
+    let (torque_unit, torque) = units.unit_and_factor(Shown::Torque);
     let (at_unit, at) = units.unit_and_factor(Shown::Position);
     // A string of sections: each section's own sinusoidal buckling load, a step along the
     // string; one section: one load, a level line.
     let loads = e.sinusoidal_buckling_n();
     let per_section_buckling = (!e.sections.is_empty() && !loads.is_empty()).then_some((
         loads.as_slice(),
-        "sinusoidal buckling load of each section (Dawson & Paslay)",
+        "sinusoidal buckling load of each section (Dawson & Paslay; a section's above the axis is off it)",
     ));
     let buckling = e.buckling.map(|b| {
         (
@@ -156,6 +158,14 @@ pub fn plot_stress_envelope(
                 scale: force,
                 reference: buckling.as_ref().map(|(v, l)| (*v, l.as_str())),
                 reference_curve: per_section_buckling,
+            },
+            Panel {
+                caption: "Largest torque (the TOB at the bit plus the wall's friction torque above)",
+                y_label: &format!("torque [{torque_unit}]"),
+                y: &e.max_torque_nm,
+                scale: torque,
+                reference: None,
+                reference_curve: None,
             },
             Panel {
                 caption: &fatigue_caption,

@@ -424,6 +424,10 @@ fn field_units_show_the_same_run_in_feet_klbf_and_psi() {
     assert!(axial.contains("[ft/h]") && !axial.contains("[m/h]"));
     let envelope = std::fs::read_to_string(field.join("stress_envelope.svg")).unwrap();
     assert!(envelope.contains("[psi]") && envelope.contains("[ft]"));
+    assert!(
+        envelope.contains("torque [kft\u{b7}lbf]") && !envelope.contains("kN\u{b7}m"),
+        "the torque-and-drag panel in field units"
+    );
 
     // compare: the table, evaluations.csv and the plots in field units.
     let out = dir.path().join("compare");
