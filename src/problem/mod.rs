@@ -9,6 +9,7 @@ mod check;
 mod error;
 pub mod file;
 pub mod keys;
+pub mod pipe_tables;
 pub mod reference;
 pub mod schema;
 pub mod study;

@@ -184,7 +184,21 @@ fn section(
         (Some(w), None, None) => {
             let w = c.value_as(&key("linear_weight"), "", w, LinearDensity);
             let solid = density * std::f64::consts::PI * outer_radius * outer_radius;
-            if w <= 0.0 {
+            let nominal = super::pipe_tables::nominal_weight_of(outer_radius, w);
+            if let Some(size @ (od, nominal, id)) = nominal {
+                // A drill-pipe table's nominal weight (tool joints included) read as the tube's
+                // plain-end weight would give 5-10 % more steel than the pipe has.
+                c.record(
+                    &key("linear_weight"),
+                    format!(
+                        "is the nominal weight of API {} in drill pipe, {nominal:.2} lb/ft (the tube with its tool joints) {of}; this key takes the pipe body's plain-end weight, {:.2} lb/ft for its tube (ID {id:.3} in) in steel of {} kg/m³: give linear_weight = \"{:.2} lb/ft\" or inner_diameter = \"{id:.3} in\"",
+                        short(od),
+                        super::pipe_tables::plain_end_weight_lb_per_ft(size, density),
+                        short(density),
+                        super::pipe_tables::plain_end_weight_lb_per_ft(size, density),
+                    ),
+                )
+            } else if w <= 0.0 {
                 c.record(
                     &key("linear_weight"),
                     format!("must be > 0 {of}, got {} kg/m", short(w)),

@@ -330,6 +330,36 @@ fn a_length_rounded_in_feet_is_the_sum_of_the_sections() {
     assert!(err.to_string().contains("within 0.01 m"), "{err}");
 }
 
+/// A drill-pipe table's nominal weight (tool joints included) typed as the tube's plain-end
+/// `linear_weight` is refused with the plain-end weight and the ID to give instead (helper-28
+/// typed 19.5 lb/ft for 5 in pipe: 8.8 % more steel than the pipe has).
+#[test]
+fn a_nominal_drill_pipe_weight_is_refused_with_the_plain_end_weight() {
+    let text = two_sections(80, 0.3);
+    let nominal = text.replace(
+        "inner_diameter = \"4.778 in\"",
+        "linear_weight = \"21.9 lb/ft\"",
+    );
+    assert_ne!(nominal, text, "the edit applies");
+    let err = Problem::from_toml(&nominal, Path::new("n.toml")).unwrap_err();
+    assert_eq!(err.key(), Some("model.section[0].linear_weight"), "{err}");
+    let msg = err.to_string();
+    for w in [
+        "nominal weight of API 5.5 in drill pipe",
+        "plain-end weight, 19.96 lb/ft",
+        "steel of 7900",
+        "4.778 in",
+    ] {
+        assert!(msg.contains(w), "{w}: {msg}");
+    }
+    // The plain-end weight itself is taken.
+    let plain = text.replace(
+        "inner_diameter = \"4.778 in\"",
+        "linear_weight = \"19.81 lb/ft\"",
+    );
+    Problem::from_toml(&plain, Path::new("p.toml")).unwrap();
+}
+
 #[test]
 fn bad_sections_are_refused_by_section_and_key_in_one_pass() {
     let text = two_sections(80, 0.3)
