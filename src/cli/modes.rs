@@ -75,6 +75,9 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
             report.basis
         );
         println!(
+            "  the modes of the string without the wall (held at the top drive and the bit only: the bending modes of a long span are at mHz); on the wall, its lateral frequencies are those of `drillopt campbell` (linearised about the string at rest on the wall)"
+        );
+        println!(
             "{:>5}  {:>12}  {:>14}  {:<10}  {:>6}  kind",
             "mode", "freq [Hz]", "omega [rad/s]", "family", "share"
         );

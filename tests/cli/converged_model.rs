@@ -78,6 +78,12 @@ fn the_long_collar_string_keeps_every_family_and_sticks_and_slips() {
         stdout.contains("51 bending (both planes), 0 torsional, 0 axial"),
         "{stdout}"
     );
+    // They are the string's without the wall: the terminal says so, and where the wall's are.
+    assert!(
+        stdout.contains("the modes of the string without the wall")
+            && stdout.contains("`drillopt campbell`"),
+        "{stdout}"
+    );
     let (ok, stdout, _) = drillopt(&["modes", "problems/long_collars.toml", "--json"]);
     assert!(ok);
     let modes: Value = serde_json::from_str(&stdout).unwrap();
