@@ -499,6 +499,27 @@ pub fn print_best(
     }
 }
 
+/// Below this share of the score over the whole box, a bound at its limit holds the optimum by
+/// a tie: the score is flat along it.
+pub const TIE_SHARE: f64 = 0.01;
+
+/// A note for a bound at its limit whose slope changes the score by `across` (score units, SI)
+/// over the box's whole width, when that is less than [`TIE_SHARE`] of the score `score`: the
+/// score is flat along the bound's variable, so the bound holds the optimum by a tie (helper-28:
+/// "held by omega.max" on a score that did not depend on Ω). Empty otherwise.
+fn tie_note(across: f64, score: Option<f64>, score_factor: f64, score_unit: &str) -> String {
+    match score {
+        Some(score) if across.abs() < TIE_SHARE * score.abs() => format!(
+            "; the score is flat along it ({:+.3}{}{} over the box's whole width, {:.2} % of the score): the bound holds the optimum by a tie, and a point inside scores about the same",
+            score_factor * across,
+            if score_unit.is_empty() { "" } else { " " },
+            score_unit,
+            100.0 * across.abs() / score.abs()
+        ),
+        _ => String::new(),
+    }
+}
+
 /// What holds `best` (`solve`'s optimum): the study's constraints at their limit
 /// ([`crate::solve::activity`]), each with its margin, or that none does; and the rig's limits
 /// that commanded an autodriller most of the window (simulator limits, not the study's).
@@ -575,16 +596,32 @@ pub fn print_held_by(
             .filter(|a| a.at_limit && !bounds.contains(&a.name))
             .map(|a| a.name.as_str())
             .collect::<Vec<_>>();
+        // The box's width along each variable, in the slope's units (rpm; m/h or kN).
+        let omega_width =
+            (constraints.omega[1] - constraints.omega[0]) * 60.0 / std::f64::consts::TAU;
+        let set_width = (constraints.set_point[1] - constraints.set_point[0])
+            * match kind {
+                crate::model::SetPoint::Feed => 3600.0,
+                crate::model::SetPoint::Wob => 1e-3,
+            };
         for a in activity.iter().filter(|a| a.at_limit) {
-            let (per, unit) = match a.name.rsplit_once('.') {
-                Some(("omega", "min")) => (-s.per_rpm, "rpm"),
-                Some(("omega", "max")) => (s.per_rpm, "rpm"),
-                Some((k, "min")) if k == kind.key() => (-s.per_set_point / set_factor, set_unit),
-                Some((k, "max")) if k == kind.key() => (s.per_set_point / set_factor, set_unit),
+            let (per, unit, across) = match a.name.rsplit_once('.') {
+                Some(("omega", "min")) => (-s.per_rpm, "rpm", s.per_rpm * omega_width),
+                Some(("omega", "max")) => (s.per_rpm, "rpm", s.per_rpm * omega_width),
+                Some((k, "min")) if k == kind.key() => (
+                    -s.per_set_point / set_factor,
+                    set_unit,
+                    s.per_set_point * set_width,
+                ),
+                Some((k, "max")) if k == kind.key() => (
+                    s.per_set_point / set_factor,
+                    set_unit,
+                    s.per_set_point * set_width,
+                ),
                 _ => continue,
             };
             println!(
-                "  {}: moving it 1 {unit} outward would change the score by about {:+.3}{}{} (the slope of a plane through {} points evaluated within {:.0} % of the box around the optimum{})",
+                "  {}: moving it 1 {unit} outward would change the score by about {:+.3}{}{} (the slope of a plane through {} points evaluated within {:.0} % of the box around the optimum{}){}",
                 a.name,
                 score_factor * per,
                 if score_unit.is_empty() { "" } else { " " },
@@ -598,7 +635,8 @@ pub fn print_held_by(
                         "; {} binds here too, so moving this bound alone does not move the optimum",
                         others.join(", ")
                     )
-                }
+                },
+                tie_note(across, best.objective, score_factor, score_unit)
             );
         }
     }
@@ -699,5 +737,25 @@ mod shell_word_tests {
         assert_eq!(super::shell_word("my well.toml"), "'my well.toml'");
         assert_eq!(super::shell_word("it's.toml"), "'it'\\''s.toml'");
         assert_eq!(super::shell_word(""), "''");
+    }
+}
+
+#[cfg(test)]
+mod tie_note_tests {
+    use super::*;
+
+    #[test]
+    fn a_bound_along_which_the_score_is_flat_holds_by_a_tie() {
+        // A score of 7.62 m/h that changes by 0.004 m/h over the whole Ω box: 0.05 %.
+        let note = tie_note(0.004, Some(7.62), 1.0, "m/h");
+        assert!(
+            note.contains(
+                "flat along it (+0.004 m/h over the box's whole width, 0.05 % of the score)"
+            ) && note.contains("by a tie"),
+            "{note}"
+        );
+        // 5 % of the score: the bound is worth something; no note.
+        assert_eq!(tie_note(0.38, Some(7.62), 1.0, "m/h"), "");
+        assert_eq!(tie_note(0.0, None, 1.0, "m/h"), "");
     }
 }
