@@ -715,11 +715,13 @@ impl<S: Sink> Recorder<S> {
             probe_radial: &self.probe_radial,
         });
         // The rigid spin Ω t: with the elastic θx, the sections' absolute rotation (fatigue).
-        let defects: &[[f64; 2]] = if sys.force_summation_defects(&mut self.defects) {
-            &self.defects
-        } else {
-            &[]
-        };
+        // (Not before the envelope's window: it records nothing there.)
+        let defects: &[[f64; 2]] =
+            if t >= self.envelope.from_s && sys.force_summation_defects(&mut self.defects) {
+                &self.defects
+            } else {
+                &[]
+            };
         self.envelope.record(
             t,
             sys.displacement_full(),
