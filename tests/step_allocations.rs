@@ -7,7 +7,6 @@ use drillopt::fem::SectionStress;
 use drillopt::integrate::{Newmark, NewmarkSettings, StepOutcome};
 use drillopt::model::{BasisSpec, FamilySize};
 use drillopt::problem::Problem;
-use drillopt::rom::ReducedModel;
 use drillopt::sim::{Dynamics, Effects, StressEnvelope, preloaded_equilibrium};
 use nalgebra::DVector;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -46,8 +45,15 @@ fn newmark_steps_of_the_drillstring_allocate_nothing() {
         torsional: FamilySize::Count(2),
         axial: FamilySize::Count(2),
         static_corrections: true,
+        steady_shapes: true,
     };
-    let model = ReducedModel::new(&p.model, 30, &basis).unwrap();
+    // With the steady drilling state's shapes (the default basis's last kind of vector).
+    let mesh = drillopt::model::Mesh {
+        elements: 30,
+        basis,
+    };
+    let model = drillopt::sim::reduced_model(&p.model, &mesh, p.operating_point).unwrap();
+    assert!(model.basis.counts().steady_shapes > 0, "{:?}", model.steady);
     let (q, _) = preloaded_equilibrium(&model, p.operating_point, Effects::ALL).unwrap();
     let n = model.size();
     let mut sys = Dynamics::new(&model, p.operating_point, Effects::ALL);

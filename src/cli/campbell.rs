@@ -145,7 +145,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
     );
     bar.set_message("modes and the resting state");
     let model = kind
-        .build(&problem.model, &problem.mesh)
+        .build(&problem.model, &problem.mesh, problem.operating_point)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
     super::check_basis(&args.problem, &problem, &model.basis.modes)?;
     let options = Linearisation {

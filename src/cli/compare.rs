@@ -101,6 +101,8 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
     let points = ev.evaluate(&ops);
     bar.finish_and_clear();
     // Bit-speed histories of the nominal model, for the overlay plot.
+    let nominal =
+        sim::ModelKind::Reduced.build(&problem.model, &problem.mesh, problem.operating_point);
     let runs: Vec<(String, sim::TimeSeries)> = ops
         .iter()
         .map(|op| {
@@ -111,27 +113,25 @@ pub fn run(args: &CompareArgs, units: UnitSystem) -> anyhow::Result<()> {
             );
             // The extremes per plot interval only: memory bounded in the duration.
             let duration = problem.simulation.duration;
-            sim::ModelKind::Reduced
-                .build(&problem.model, &problem.mesh)
-                .map(|model| {
-                    let kept = sim::PlotHistory::new(
-                        &problem.simulation.probes,
-                        duration,
-                        report::PLOT_BUCKETS,
-                        None,
-                    );
-                    let (kept, _) = sim::run_model_until(
-                        &problem.simulation,
-                        &model,
-                        *op,
-                        duration,
-                        kept,
-                        |_| {},
-                        sim::StopFlag::default(),
-                    )
-                    .split();
-                    (label, kept.into_series())
-                })
+            nominal.as_ref().map_err(Clone::clone).map(|model| {
+                let kept = sim::PlotHistory::new(
+                    &problem.simulation.probes,
+                    duration,
+                    report::PLOT_BUCKETS,
+                    None,
+                );
+                let (kept, _) = sim::run_model_until(
+                    &problem.simulation,
+                    model,
+                    *op,
+                    duration,
+                    kept,
+                    |_| {},
+                    sim::StopFlag::default(),
+                )
+                .split();
+                (label, kept.into_series())
+            })
         })
         .collect::<Result<_, _>>()
         .context("modal analysis")?;

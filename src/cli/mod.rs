@@ -113,6 +113,53 @@ pub(crate) fn basis_error(
     )
 }
 
+/// What the basis' steady-state shapes are, for the line below the basis counts: where they come
+/// from when they are in (`Ok`), a warning that says why not when they were asked for and left
+/// out (`Err`), nothing when not asked for.
+pub(crate) fn steady_shapes_line(
+    path: &std::path::Path,
+    status: crate::rom::SteadyStatus,
+    units: crate::units::UnitSystem,
+) -> Option<Result<String, String>> {
+    use crate::rom::SteadyStatus;
+    let why = match status {
+        SteadyStatus::NotAsked => return None,
+        SteadyStatus::Added { omega, v0, .. } => {
+            let (unit, v) = units.from_metric("m/h", crate::units::to_m_per_h(v0));
+            return Some(Ok(format!(
+                "  steady-state shapes: the finite-element model's steady drilling state at {:.1} rpm, {} {unit} (the file's operating point), in the basis",
+                crate::units::to_rpm(omega),
+                crate::units::fixed(v, 2)
+            )));
+        }
+        SteadyStatus::MeshTooLarge { unknowns, limit } => format!(
+            "the finite-element steady state is solved for at most {limit} free DOFs and this mesh has {unknowns}"
+        ),
+        SteadyStatus::NoReducedStart => {
+            "the basis without them has no steady drilling state at the file's operating point"
+                .into()
+        }
+        SteadyStatus::NotConverged { iterations, update } => format!(
+            "Newton on the finite-element model's steady state did not converge ({iterations} iterations, last lateral update {:.3} mm)",
+            1e3 * update
+        ),
+        SteadyStatus::FrictionContinuation {
+            reached,
+            iterations,
+        } => format!(
+            "the finite-element model's continuation in the wall friction stopped at {:.1} % of it after {iterations} Newton iterations",
+            100.0 * reached
+        ),
+        SteadyStatus::NoFiniteElementStart => {
+            "the finite-element model's steady state could not be found (a non-finite state)".into()
+        }
+    };
+    Some(Err(format!(
+        "warning: {}: the basis has no steady-state shapes ({why}): its steady wall forces and torque can differ from the finite-element model's (`drillopt verify` compares them); `[mesh.basis] steady_shapes = false` leaves them out without this warning",
+        path.display()
+    )))
+}
+
 /// The stage a run's failure comes from, and so the keys that can cause it
 /// ([`crate::problem::keys`]); none for a failure that is not numerical (an interrupted run, a
 /// failed output).
@@ -283,7 +330,7 @@ pub fn run(cli: Cli) -> anyhow::Result<Outcome> {
     let done = |r: anyhow::Result<()>| r.map(|()| Outcome::Success);
     let units = crate::units::UnitSystem::from(cli.units);
     match cli.command {
-        Command::Modes(args) => done(modes::run(&args)),
+        Command::Modes(args) => done(modes::run(&args, units)),
         Command::Campbell(args) => done(campbell::run(&args)),
         Command::Simulate(args) => done(simulate::run(&args, units)),
         Command::Solve(args) => done(solve::run(&args, units)),

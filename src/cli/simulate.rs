@@ -370,7 +370,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         sim::ModelKind::Reduced
     };
     let model = kind
-        .build(&problem.model, &problem.mesh)
+        .build(&problem.model, &problem.mesh, problem.operating_point)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))
         .and_then(|model| {
             super::check_basis(&args.problem, &problem, &model.basis.modes)?;
@@ -439,7 +439,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         sim::ModelKind::Reduced => &model,
         sim::ModelKind::Unreduced => {
             reduced = sim::ModelKind::Reduced
-                .build(&problem.model, &problem.mesh)
+                .build(&problem.model, &problem.mesh, problem.operating_point)
                 .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
             &reduced
         }
@@ -485,6 +485,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         elements: problem.mesh.elements,
         model: kind,
         basis: output.basis,
+        steady_shapes: model.steady,
         nominal_step_s: problem.simulation.time_step,
         max_step_s: output.max_step,
         status: match (&output.error, &metrics_error) {
@@ -530,6 +531,7 @@ pub fn run(args: &SimulateArgs, units: UnitSystem) -> anyhow::Result<()> {
         report::plot_stress_envelope(envelope, &op, units, &out.join("stress_envelope.svg"))?;
     }
     print_summary(
+        &args.problem,
         &summary,
         &out,
         problem.model.stiffness_damping,
@@ -671,7 +673,9 @@ fn section_lines(
         .collect()
 }
 
+#[allow(clippy::too_many_arguments)]
 fn print_summary(
+    path: &Path,
     s: &SummaryJson,
     out: &Path,
     stiffness_damping: f64,
@@ -730,6 +734,11 @@ fn print_summary(
             ),
         }
     );
+    match super::steady_shapes_line(path, s.steady_shapes, u) {
+        Some(Ok(line)) => println!("{line}"),
+        Some(Err(warning)) => eprintln!("{warning}"),
+        None => {}
+    }
     for line in sections {
         println!("{line}");
     }

@@ -125,6 +125,7 @@ pub fn run(args: &VerifyArgs, units: UnitSystem) -> anyhow::Result<super::Outcom
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         print_table(
+            &args.problem,
             &report,
             &settings,
             &refinements,
@@ -204,6 +205,7 @@ fn verdict(r: &VerifyReport) -> String {
 
 /// `undamped_waves`: no stiffness-proportional damping (the header's note on bit_damping_ratio).
 fn print_table(
+    path: &std::path::Path,
     r: &VerifyReport,
     s: &VerifySettings,
     refinements: &[Refinement],
@@ -225,6 +227,26 @@ fn print_table(
             ""
         }
     );
+    match super::steady_shapes_line(path, r.steady_shapes, units) {
+        Some(Ok(line)) => println!("{}", line.trim_start()),
+        Some(Err(warning)) => eprintln!("{warning}"),
+        None => {}
+    }
+    // A refinement whose basis lost the base's steady-state shapes compares unlike bases.
+    if matches!(r.steady_shapes, crate::rom::SteadyStatus::Added { .. }) {
+        for run in &r.runs {
+            if run.name != "unreduced"
+                && !matches!(run.steady_shapes, crate::rom::SteadyStatus::Added { .. })
+                && let Some(Err(why)) = super::steady_shapes_line(path, run.steady_shapes, units)
+            {
+                eprintln!(
+                    "warning: the {} run: {}; its change against the base run is partly that of the basis",
+                    run.name,
+                    why.trim_start_matches("warning: ")
+                );
+            }
+        }
+    }
     match r.steady_state {
         Some(st) if st.unstable() => println!(
             "steady state UNSTABLE: grows at {:.3} 1/s ({:.1} Hz); from round-off it needs about {:.1} s to reach the response's size (a window that ends before reads the steady state)",
@@ -373,7 +395,7 @@ fn steady_loads_reference(
         format!("{head}: within {:.0} %", 100.0 * STEADY_LOADS_TOLERANCE)
     } else {
         format!(
-            "{head}\nwarning: the basis does NOT place the steady state's loads where the mesh does ({} more than {:.0} % off: the string's contacts, and with them the wall's friction torque, lie elsewhere); the refinements below cannot show it when the refined basis misses them too; compare along the string with `drillopt simulate --unreduced` (stress_envelope.csv)",
+            "{head}\nwarning: the basis does NOT place the steady state's loads where the mesh does ({} more than {:.0} % off: the string's contacts, and with them the wall's friction torque, lie elsewhere); the refinements below cannot show it when the refined basis misses them too; compare along the string with `drillopt simulate --unreduced` (stress_envelope.csv); `[mesh.basis] steady_shapes = true` puts the finite-element steady state in the basis (docs/model.md, \"Converged model\": check its runs against the finite-element model)",
             off.join(", "),
             100.0 * STEADY_LOADS_TOLERANCE
         )

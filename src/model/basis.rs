@@ -56,6 +56,15 @@ pub enum BasisSpec {
         /// the resting shape of each bending plane (the static deflection under the string's
         /// weight with the wall's contact, `rom::resting`): four vectors.
         static_corrections: bool,
+        /// With the static corrections, add the lateral shapes of the finite-element model's
+        /// steady drilling state at the problem's operating point (`rom::SteadyState`, built by
+        /// `sim::reduced_model`): up to two vectors per plane, so that the reduced string's
+        /// steady contacts, wall forces and torque are the finite-element ones. Off by default:
+        /// on a coarse basis they can leave the dynamics unstable where the finite-element model
+        /// is not (docs/model.md, "Converged model"). Left out of the canonical form (the cache
+        /// key) when false, so that the keys of files without it keep their revision's values.
+        #[serde(skip_serializing_if = "std::ops::Not::not")]
+        steady_shapes: bool,
     },
 }
 
@@ -71,7 +80,21 @@ impl BasisSpec {
         torsional: FamilySize::Count(8),
         axial: FamilySize::Count(4),
         static_corrections: true,
+        steady_shapes: false,
     };
+
+    /// Whether the basis takes the steady drilling state's shapes (they need the static
+    /// corrections' resting shapes beside them).
+    pub fn steady_shapes(&self) -> bool {
+        matches!(
+            self,
+            BasisSpec::PerFamily {
+                static_corrections: true,
+                steady_shapes: true,
+                ..
+            }
+        )
+    }
 
     /// The basis with every family enriched by `factor` (> 1), for solution verification; the
     /// lowest-N basis becomes the lowest ⌈factor N⌉.
@@ -83,11 +106,13 @@ impl BasisSpec {
                 torsional,
                 axial,
                 static_corrections,
+                steady_shapes,
             } => BasisSpec::PerFamily {
                 bending: bending.enriched(factor),
                 torsional: torsional.enriched(factor),
                 axial: axial.enriched(factor),
                 static_corrections,
+                steady_shapes,
             },
         }
     }
@@ -102,11 +127,17 @@ impl fmt::Display for BasisSpec {
                 torsional,
                 axial,
                 static_corrections,
+                steady_shapes,
             } => write!(
                 f,
-                "per family: bending {bending} per plane, torsional {torsional}, axial {axial}{}",
+                "per family: bending {bending} per plane, torsional {torsional}, axial {axial}{}{}",
                 if *static_corrections {
                     ", bit static corrections"
+                } else {
+                    ""
+                },
+                if *static_corrections && *steady_shapes {
+                    ", steady-state shapes"
                 } else {
                     ""
                 }

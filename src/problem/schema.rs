@@ -170,6 +170,7 @@ pub struct BasisSection {
     pub torsional: RawQuantity,
     pub axial: RawQuantity,
     pub static_corrections: Option<bool>,
+    pub steady_shapes: Option<bool>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -907,12 +907,22 @@ fn mesh(c: &Checker, m: &MeshSection) -> Result<Mesh, ProblemError> {
             }
             BasisSpec::Lowest(*n as usize)
         }
-        (None, Some(b)) => BasisSpec::PerFamily {
-            bending: family_size(c, "mesh.basis.bending", &b.bending, elements)?,
-            torsional: family_size(c, "mesh.basis.torsional", &b.torsional, elements)?,
-            axial: family_size(c, "mesh.basis.axial", &b.axial, elements)?,
-            static_corrections: b.static_corrections.unwrap_or(true),
-        },
+        (None, Some(b)) => {
+            let static_corrections = b.static_corrections.unwrap_or(true);
+            if b.steady_shapes == Some(true) && !static_corrections {
+                return Err(c.fail(
+                    "mesh.basis.steady_shapes",
+                    "needs the static corrections (the steady state's shapes join the resting shapes): set static_corrections = true or leave steady_shapes out, got true".into(),
+                ));
+            }
+            BasisSpec::PerFamily {
+                bending: family_size(c, "mesh.basis.bending", &b.bending, elements)?,
+                torsional: family_size(c, "mesh.basis.torsional", &b.torsional, elements)?,
+                axial: family_size(c, "mesh.basis.axial", &b.axial, elements)?,
+                static_corrections,
+                steady_shapes: b.steady_shapes.unwrap_or(false),
+            }
+        }
         (None, None) => BasisSpec::DEFAULT,
     };
     Ok(Mesh { elements, basis })

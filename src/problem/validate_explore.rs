@@ -300,11 +300,13 @@ fn basis(c: &Checker, b: &BasisSection, mesh: Option<&Mesh>) -> Option<BasisSpec
     let axial = family("axial", &b.axial);
     let (bending, torsional, axial) = (bending?, torsional?, axial?);
     let static_corrections = b.static_corrections.unwrap_or(true);
+    let steady_shapes = b.steady_shapes.unwrap_or(false);
     let spec = BasisSpec::PerFamily {
         bending,
         torsional,
         axial,
         static_corrections,
+        steady_shapes,
     };
     if spec == mesh.basis {
         c.record(
@@ -321,6 +323,7 @@ fn basis(c: &Checker, b: &BasisSection, mesh: Option<&Mesh>) -> Option<BasisSpec
         torsional: full_t,
         axial: full_a,
         static_corrections: full_sc,
+        ..
     } = mesh.basis
     else {
         // The N lowest modes: compared by size when the models are built.
@@ -352,6 +355,19 @@ fn basis(c: &Checker, b: &BasisSection, mesh: Option<&Mesh>) -> Option<BasisSpec
         c.record(
             &format!("{KEY}.basis.static_corrections"),
             "must be false when the full basis has none (mesh.basis.static_corrections = false): the explore basis is the cheap one, got true".into(),
+        );
+    }
+    if steady_shapes && !spec.steady_shapes() {
+        ok = false;
+        c.record(
+            &format!("{KEY}.basis.steady_shapes"),
+            "needs the static corrections (the steady state's shapes join the resting shapes): set static_corrections = true or leave steady_shapes out, got true".into(),
+        );
+    } else if steady_shapes && !mesh.basis.steady_shapes() {
+        ok = false;
+        c.record(
+            &format!("{KEY}.basis.steady_shapes"),
+            "must be false when the full basis has none (mesh.basis.steady_shapes = false): the explore basis is the cheap one, got true".into(),
         );
     }
     ok.then_some(spec)

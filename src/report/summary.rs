@@ -58,6 +58,9 @@ pub struct SummaryJson<'a> {
     /// Reduced on the basis below, or unreduced (then `basis` counts every mode of the mesh).
     pub model: crate::sim::ModelKind,
     pub basis: crate::rom::BasisCounts,
+    /// What became of the steady drilling state's shapes in the basis (`[mesh.basis]
+    /// steady_state`; `not_asked` for the unreduced model).
+    pub steady_shapes: crate::rom::SteadyStatus,
     /// The problem's nominal step and the largest step the run allowed (capped at 1/20 of the
     /// lowest torsional and axial periods), s.
     pub nominal_step_s: f64,

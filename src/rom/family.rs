@@ -73,6 +73,10 @@ pub enum ModeKind {
     /// modes and combined by Rayleigh–Ritz. Part of the basis when the static corrections are
     /// asked for.
     RestingShape,
+    /// The steady drilling state's lateral shape in one bending plane, from the finite-element
+    /// model at the problem's operating point ([`super::SteadyState`]): up to two Ritz vectors
+    /// per plane, M-orthogonalised against the plane's kept modes and resting shapes.
+    SteadyShape,
 }
 
 /// One vector of the reduced basis.
@@ -105,6 +109,8 @@ pub struct BasisCounts {
     /// Resting shapes of the bending planes and their compression sensitivities
     /// ([`ModeKind::RestingShape`]; two per plane).
     pub resting_shapes: usize,
+    /// Shapes of the steady drilling state ([`ModeKind::SteadyShape`]; up to two per plane).
+    pub steady_shapes: usize,
 }
 
 impl fmt::Display for BasisCounts {
@@ -125,6 +131,14 @@ impl fmt::Display for BasisCounts {
                 ", {} resting shape{}",
                 self.resting_shapes,
                 plural(self.resting_shapes)
+            )?;
+        }
+        if self.steady_shapes > 0 {
+            write!(
+                f,
+                ", {} steady-state shape{}",
+                self.steady_shapes,
+                plural(self.steady_shapes)
             )?;
         }
         Ok(())

@@ -46,7 +46,7 @@ impl ModalBasis {
         spec: &BasisSpec,
     ) -> Result<Self, BasisError> {
         let bc = BoundaryConditions::drillstring(elements);
-        let rest = Rest::of(string, elements);
+        let rest = Rest::of(string, elements, None);
         let basis = if Self::sparse_mesh(elements) {
             let global = assemble_sparse(string, elements);
             build(
@@ -69,15 +69,22 @@ impl ModalBasis {
     }
 
     /// [`Self::of`] with the resting shapes of `string` (when `spec` asks for static
-    /// corrections): the basis [`Self::compute`] gives, on matrices already assembled.
+    /// corrections): the basis [`Self::compute`] gives, on matrices already assembled; with
+    /// `steady`, and when `spec` asks for them, also the steady drilling state's shapes
+    /// ([`SteadyState`]).
     pub fn of_string(
         global: &GlobalMatrices,
         string: &Drillstring,
         bc: &BoundaryConditions,
         spec: &BasisSpec,
+        steady: Option<SteadyState<'_>>,
         par: Par,
     ) -> Result<Self, BasisError> {
-        let rest = Rest::of(string, global.elements);
+        let rest = Rest::of(
+            string,
+            global.elements,
+            steady.filter(|_| spec.steady_shapes()),
+        );
         Self::build(global, bc, spec, Some(&rest), par)?.check_families(spec)
     }
 
@@ -209,6 +216,7 @@ impl ModalBasis {
             match (m.kind, m.family) {
                 (ModeKind::StaticCorrection, _) => c.static_corrections += 1,
                 (ModeKind::RestingShape, _) => c.resting_shapes += 1,
+                (ModeKind::SteadyShape, _) => c.steady_shapes += 1,
                 (_, Family::Axial) => c.axial += 1,
                 (_, Family::Torsional) => c.torsional += 1,
                 (_, Family::BendingY | Family::BendingZ) => c.bending += 1,
@@ -217,6 +225,22 @@ impl ModalBasis {
         c
     }
 }
+
+/// The steady drilling state of the finite-element model on the basis' mesh (every DOF,
+/// 6(N+1), m and rad; zero on the constrained ones), from which the basis takes Ritz vectors:
+/// in each bending plane its own lateral part and the other plane's part turned into it
+/// (v ← w, θz ← −θy and w ← v, θy ← −θz), so that the twin planes keep twin bases and the
+/// state, turned by the climb of the wall's friction, is in their span.
+///
+/// Why: the wall is stiff (micrometres of indentation carry the weight), so a reduced string's
+/// contact forces are only as good as its basis resolves micrometre patterns of displacement.
+/// The resting shape and its compression sensitivity hold the string at rest and under a WOB,
+/// but not the friction's climb near a stabiliser or the clamped top: there the basis put the
+/// steady peak wall force 40-270 % above the finite-element model's (issue 30, `verify`'s
+/// steady loads). With these vectors the steady state is in the span, and the reduced steady
+/// loads are the finite-element ones (`tests/model/steady_shapes.rs`).
+#[derive(Debug, Clone, Copy)]
+pub struct SteadyState<'a>(pub &'a [f64]);
 
 /// What the resting shapes need beyond (K, M): the weight loads along −y and −z on the full
 /// DOF set, and the wall.
@@ -230,12 +254,15 @@ pub(super) struct Rest<'a> {
     factors: Vec<f64>,
     /// The radial gap at each node, m.
     gaps: Vec<f64>,
+    /// The steady drilling state whose shapes join the resting shapes.
+    steady: Option<SteadyState<'a>>,
 }
 
 impl<'a> Rest<'a> {
-    fn of(string: &'a Drillstring, elements: usize) -> Self {
+    fn of(string: &'a Drillstring, elements: usize, steady: Option<SteadyState<'a>>) -> Self {
         let layout = crate::fem::ElementLayout::of(string, elements);
         Rest {
+            steady,
             weight: [Lateral::Y, Lateral::Z].map(|axis| weight_load(string, elements, axis)),
             geometric: geometric_stiffness(string, elements),
             law: string.wall.law(),
@@ -297,7 +324,26 @@ fn build(
         let contact: Vec<usize> = (0..block.len())
             .filter(|&i| Dof::of_index(free[block[i]]) == translation)
             .collect();
+        // The steady state's own part in this plane and the other plane's part turned into it.
+        let steady = rest.steady.map_or_else(Vec::new, |SteadyState(x)| {
+            let own = block.iter().map(|&r| x[free[r]]).collect();
+            let turned = block
+                .iter()
+                .map(|&r| {
+                    let node = free[r] / crate::fem::DOF_PER_NODE;
+                    match Dof::of_index(free[r]) {
+                        Dof::V => x[Dof::W.at(node)],
+                        Dof::ThetaZ => -x[Dof::ThetaY.at(node)],
+                        Dof::W => x[Dof::V.at(node)],
+                        Dof::ThetaY => -x[Dof::ThetaZ.at(node)],
+                        Dof::U | Dof::ThetaX => 0.0,
+                    }
+                })
+                .collect();
+            vec![own, turned]
+        });
         Some(BlockRest {
+            steady,
             load: block.iter().map(|&r| load[free[r]]).collect(),
             factors: contact
                 .iter()

@@ -262,7 +262,7 @@ pub(super) fn solve_block(
                 .and_then(|g| rest.compression_sensitivity(k, g, &x));
             Ok(std::iter::once(x).chain(dx).collect())
         };
-        let vectors = match &matrices {
+        let resting = match &matrices {
             Block::Dense(kb, mb) => dense_ritz(
                 kb.as_ref(),
                 mb.as_ref(),
@@ -272,11 +272,33 @@ pub(super) fn solve_block(
             ),
             Block::Sparse(kb, mb) => sparse_ritz(kb, mb, &vectors, keep, shapes(kb)?),
         };
-        for (lambda, psi) in vectors {
+        // The steady state's shapes, a second Ritz step against the kept modes and the resting
+        // shapes (which stay what they are without them).
+        let steady = if rest.steady.is_empty() {
+            Vec::new()
+        } else {
+            let against = Mat::<f64>::from_fn(all, keep + resting.len(), |i, c| {
+                if c < keep {
+                    vectors[(i, c)]
+                } else {
+                    resting[c - keep].1[i]
+                }
+            });
+            let psi = rest.steady.clone();
+            match &matrices {
+                Block::Dense(kb, mb) => {
+                    dense_ritz(kb.as_ref(), mb.as_ref(), &against, against.ncols(), psi)
+                }
+                Block::Sparse(kb, mb) => sparse_ritz(kb, mb, &against, against.ncols(), psi),
+            }
+        };
+        let kinds = (resting.into_iter().map(|v| (ModeKind::RestingShape, v)))
+            .chain(steady.into_iter().map(|v| (ModeKind::SteadyShape, v)));
+        for (kind, (lambda, psi)) in kinds {
             kept.push(Candidate {
                 lambda,
                 family,
-                kind: ModeKind::RestingShape,
+                kind,
                 entries: entries_of(&|i| psi[i]),
                 block: 0,
             });

@@ -12,6 +12,7 @@
 
 use super::{
     BasisError, BlockBasis, BlockWork, Family, ForceSummation, ModalBasis, Operator, SparseBasis,
+    SteadyState,
 };
 use crate::fem::{
     AssembledMesh, BoundaryConditions, Dof, ElementInertia, ElementStrains, GlobalMatrices,
@@ -65,6 +66,40 @@ pub struct ReducedModel {
     /// loads below each section ([`ForceSummation`]); `None` for the unreduced model, whose
     /// strains carry them (its residual vanishes at every node).
     pub force_summation: Option<ForceSummation>,
+    /// What became of the steady drilling state's shapes in the basis (set by
+    /// `sim::reduced_model`, which finds the state; [`SteadyStatus::NotAsked`] otherwise).
+    pub steady: SteadyStatus,
+}
+
+/// What became of the steady drilling state's shapes ([`SteadyState`]) in a reduced basis.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum SteadyStatus {
+    /// Not asked for (`[mesh.basis] steady_shapes = false`, no static corrections, the N lowest
+    /// modes, or a model built without a state).
+    NotAsked,
+    /// In the basis: the finite-element steady state at Ω (rad/s) and the feed V (m/s; a free
+    /// top's steady block speed), found by `iterations` Newton iterations from the state of the
+    /// basis without them.
+    Added {
+        omega: f64,
+        v0: f64,
+        iterations: usize,
+    },
+    /// Left out: the finite-element steady solve takes at most `limit` unknowns (dense Newton
+    /// matrices) and the mesh has `unknowns`.
+    MeshTooLarge { unknowns: usize, limit: usize },
+    /// Left out: the basis without them has no steady drilling state at the operating point
+    /// (a run from the pre-loaded start says why).
+    NoReducedStart,
+    /// Left out: Newton on the finite-element model's steady state without the wall's friction
+    /// did not converge (`iterations`, the last lateral update in m).
+    NotConverged { iterations: usize, update: f64 },
+    /// Left out: the finite-element model's continuation in the wall's friction stopped at the
+    /// share `reached` of it after `iterations` Newton iterations.
+    FrictionContinuation { reached: f64, iterations: usize },
+    /// Left out: the finite-element model's start failed otherwise (a non-finite state).
+    NoFiniteElementStart,
 }
 
 /// What the residual evaluates on an element of one kind: its strain-energy law, the strain
@@ -89,15 +124,36 @@ struct Operators {
 }
 
 impl ReducedModel {
-    /// Assemble, build the basis `spec` and project.
+    /// Assemble, build the basis `spec` and project (without the steady state's shapes: see
+    /// [`Self::with_steady_state`], and `sim::reduced_model` that finds the state).
     pub fn new(
         string: &Drillstring,
         elements: usize,
         spec: &BasisSpec,
     ) -> Result<Self, BasisError> {
+        Self::build(string, elements, spec, None)
+    }
+
+    /// [`Self::new`] with the shapes of the steady drilling state `steady` in the basis, when
+    /// `spec` asks for them ([`BasisSpec::steady_shapes`]).
+    pub fn with_steady_state(
+        string: &Drillstring,
+        elements: usize,
+        spec: &BasisSpec,
+        steady: SteadyState<'_>,
+    ) -> Result<Self, BasisError> {
+        Self::build(string, elements, spec, Some(steady))
+    }
+
+    fn build(
+        string: &Drillstring,
+        elements: usize,
+        spec: &BasisSpec,
+        steady: Option<SteadyState<'_>>,
+    ) -> Result<Self, BasisError> {
         let global = assemble(string, elements);
         let bc = BoundaryConditions::drillstring(elements);
-        let basis = ModalBasis::of_string(&global, string, &bc, spec, Par::Seq)?;
+        let basis = ModalBasis::of_string(&global, string, &bc, spec, steady, Par::Seq)?;
         let phi = to_na(&basis.shapes);
         let families: Vec<_> = basis.modes.iter().map(|m| m.family).collect();
         let omega2 =
@@ -133,12 +189,32 @@ impl ReducedModel {
     /// neighbouring nodes only). `basis` holds every mode of the mesh, for the frequencies the step
     /// rule needs and for the reports (it does not enter the equations).
     pub fn unreduced(string: &Drillstring, elements: usize) -> Result<Self, BasisError> {
+        Self::nodal(string, elements, true)
+    }
+
+    /// [`Self::unreduced`] without its modes (`basis` empty, `omega2` zero): for static solves
+    /// only (the steady state of `sim::reduced_model`), which use neither; a time integration
+    /// needs the modes' frequencies (its step rule and error weights) and must not be given it.
+    pub fn unreduced_for_statics(string: &Drillstring, elements: usize) -> Self {
+        Self::nodal(string, elements, false).expect("no eigen-solve, no basis error")
+    }
+
+    fn nodal(string: &Drillstring, elements: usize, modes: bool) -> Result<Self, BasisError> {
         let global = assemble(string, elements);
         let bc = BoundaryConditions::drillstring(elements);
         let free = bc.free_dofs();
         let n = free.len();
-        let basis = ModalBasis::of(&global, &bc, &BasisSpec::Lowest(n), Par::Seq)?;
-        let omega2 = DVector::from_iterator(n, basis.modes.iter().map(|m| m.omega * m.omega));
+        let (basis, omega2) = if modes {
+            let basis = ModalBasis::of(&global, &bc, &BasisSpec::Lowest(n), Par::Seq)?;
+            let omega2 = DVector::from_iterator(n, basis.modes.iter().map(|m| m.omega * m.omega));
+            (basis, omega2)
+        } else {
+            let basis = ModalBasis {
+                modes: Vec::new(),
+                shapes: faer::Mat::zeros(global.dof(), 0),
+            };
+            (basis, DVector::zeros(n))
+        };
         let mut phi = DMatrix::zeros(global.dof(), n);
         for (j, &i) in free.iter().enumerate() {
             phi[(i, j)] = 1.0;
@@ -268,6 +344,7 @@ impl ReducedModel {
             gyroscopic,
             kernels,
             force_summation,
+            steady: SteadyStatus::NotAsked,
         }
     }
 

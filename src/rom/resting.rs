@@ -53,6 +53,10 @@ pub(super) struct BlockRest<'a> {
     /// The block's geometric stiffness K_σ of a unit axial force (for
     /// [`Self::compression_sensitivity`]); `None`: the resting shape alone.
     pub geometric: Option<SymmetricSparse>,
+    /// The steady drilling state's shapes on the block's DOFs (its own plane's part of the
+    /// finite-element steady state and the other plane's part turned into this plane), Ritz
+    /// vectors beside the resting shapes ([`super::SteadyState`]); empty without one.
+    pub steady: Vec<Vec<f64>>,
 }
 
 /// Newton iterations allowed (the seed converges in about 20).
@@ -261,6 +265,7 @@ mod tests {
             law: &wall,
             gap: 1.0,
             geometric: None,
+            steady: Vec::new(),
         };
         let x = rest.shape(&chain(n)).unwrap();
         // Node i (1-based) of a fixed–free chain under uniform load b: x_i = b Σ_{j≤i} (n − j + 1).
@@ -284,6 +289,7 @@ mod tests {
             law: &wall,
             gap: 0.5,
             geometric: None,
+            steady: Vec::new(),
         };
         let x = rest.shape(&k).unwrap();
         approx::assert_relative_eq!(x[0], -52.0 / 101.0, max_relative = 1e-12);
@@ -309,6 +315,7 @@ mod tests {
             law: &wall,
             gap: 2.0,
             geometric: None,
+            steady: Vec::new(),
         };
         let k = chain(n);
         let geometric = SymmetricSparse::from_column_fn(n, |j| vec![(j, 0.1 * (j + 1) as f64)]);

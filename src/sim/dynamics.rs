@@ -931,6 +931,7 @@ mod tests {
             torsional: FamilySize::Count(2),
             axial: FamilySize::Count(2),
             static_corrections: true,
+            steady_shapes: false,
         };
         let model = ReducedModel::new(&p.model, 30, &basis).expect("the basis");
         (model, p.operating_point)

@@ -14,6 +14,7 @@ mod run;
 mod sampler;
 mod series;
 mod stability;
+mod steady_basis;
 
 pub use crate::model::BitLoad;
 pub use contact::{NodeContact, NodeMotion, WallGeometry, wall_contact};
@@ -32,6 +33,7 @@ pub use run::{
 pub use sampler::{SampleInterval, Sampler};
 pub use series::{CHANNELS, Channel, Frame, Row, Sink, TimeSeries, at};
 pub use stability::{MAX_UNKNOWNS, NEUTRAL, SteadyStability, steady_stability};
+pub use steady_basis::{STEADY_SHAPES_MAX_UNKNOWNS, reduced_model};
 
 /// Revision of the simulator's numerics, part of every cache key: bump it with any change that
 /// can move a simulated number (model, basis, start, integrator, metrics), so that results of
@@ -75,4 +77,6 @@ pub use stability::{MAX_UNKNOWNS, NEUTRAL, SteadyStability, steady_stability};
 /// a reduced model's axial force and torque are summed from the loads below each section
 /// (`rom::ForceSummation`; its strains read 65.2-91.6 kN there): max_compression_n, the
 /// buckling utilizations, von Mises and fatigue move; the dynamics do not.
+/// (`[mesh.basis] steady_shapes = true`, the steady drilling state's shapes in the basis, is new
+/// input, off by default: a file without it gives the numbers of revision 12 bit for bit.)
 pub const SIMULATOR_REVISION: u32 = 12;

@@ -305,9 +305,20 @@ pub fn preloaded_equilibrium(
     op: OperatingPoint,
     effects: Effects,
 ) -> Result<(DVector<f64>, usize), SimulationError> {
+    preloaded_from(model, op, effects, DVector::zeros(model.size()), false)
+}
+
+/// [`preloaded_equilibrium`] from the state `q` instead of the straight string; with
+/// `frictionless`, only its first stage (the steady state without the wall's friction).
+pub(super) fn preloaded_from(
+    model: &ReducedModel,
+    op: OperatingPoint,
+    effects: Effects,
+    mut q: DVector<f64>,
+    frictionless: bool,
+) -> Result<(DVector<f64>, usize), SimulationError> {
     let mut sys = Dynamics::new(model, op, effects);
     let mut newton = EquilibriumNewton::new(model);
-    let mut q = DVector::zeros(model.size());
     let friction = model.string.wall.law().friction();
     let slipping = op.omega != 0.0 || op.v0 != 0.0;
     if !(effects.wall && friction > 0.0 && slipping) {
@@ -320,6 +331,9 @@ pub fn preloaded_equilibrium(
     let mut total = newton
         .solve(&mut sys, &mut q, STATIC_ITERATIONS)
         .map_err(not_converged)?;
+    if frictionless {
+        return Ok((q, total));
+    }
     let climb = ClimbPredictor::new(model, op);
     let (mut reached, mut step) = (0.0_f64, 1.0_f64);
     let mut trial = q.clone();
@@ -1196,15 +1210,18 @@ pub enum ModelKind {
 }
 
 impl ModelKind {
-    /// The model of this kind of `string` on `mesh` (a problem's `[model]` and `[mesh]`).
+    /// The model of this kind of `string` on `mesh` (a problem's `[model]` and `[mesh]`); the
+    /// reduced basis takes the steady drilling state at `op` (the problem's operating point:
+    /// [`super::reduced_model`]).
     /// Errors: those of the basis ([`ReducedModel::new`], [`ReducedModel::unreduced`]).
     pub fn build(
         self,
         string: &crate::model::Drillstring,
         mesh: &crate::model::Mesh,
+        op: OperatingPoint,
     ) -> Result<ReducedModel, crate::rom::BasisError> {
         match self {
-            ModelKind::Reduced => ReducedModel::new(string, mesh.elements, &mesh.basis),
+            ModelKind::Reduced => super::reduced_model(string, mesh, op),
             ModelKind::Unreduced => ReducedModel::unreduced(string, mesh.elements),
         }
     }

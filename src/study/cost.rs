@@ -180,11 +180,18 @@ pub fn basis_size(spec: &BasisSpec) -> usize {
             torsional,
             axial,
             static_corrections,
+            steady_shapes,
         } => {
+            // The bit's two static corrections and two resting shapes per plane; up to two
+            // steady-state shapes per plane.
             2 * count(bending)
                 + count(torsional)
                 + count(axial)
-                + if static_corrections { 4 } else { 0 }
+                + match (static_corrections, steady_shapes) {
+                    (false, _) => 0,
+                    (true, false) => 6,
+                    (true, true) => 10,
+                }
         }
     }
 }
@@ -394,7 +401,26 @@ mod tests {
 
     #[test]
     fn basis_sizes_count_both_bending_planes_and_the_corrections() {
-        assert_eq!(basis_size(&BasisSpec::DEFAULT), 2 * 16 + 8 + 4 + 4);
+        // 32 bending, 8 torsional, 4 axial, 2 static corrections and 4 resting shapes: the 50
+        // vectors `drillopt modes` lists for the seed; 4 steady-state shapes more when asked.
+        assert_eq!(basis_size(&BasisSpec::DEFAULT), 50);
+        let BasisSpec::PerFamily {
+            bending,
+            torsional,
+            axial,
+            ..
+        } = BasisSpec::DEFAULT
+        else {
+            unreachable!("the default is per family")
+        };
+        let steady = BasisSpec::PerFamily {
+            bending,
+            torsional,
+            axial,
+            static_corrections: true,
+            steady_shapes: true,
+        };
+        assert_eq!(basis_size(&steady), 54);
         assert_eq!(basis_size(&BasisSpec::Lowest(51)), 51);
     }
 

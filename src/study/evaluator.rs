@@ -164,7 +164,7 @@ impl<'a> RobustEvaluator<'a> {
             .iter()
             .any(|u| u.key.enters(&problem.model) == Enters::LinearOperators);
         let build = |i: usize, s: &Drillstring| {
-            ReducedModel::new(s, problem.mesh.elements, &problem.mesh.basis)
+            crate::sim::reduced_model(s, &problem.mesh, problem.operating_point)
                 .map_err(|source| SetupError::Modes { sample: i, source })
         };
         let models = if rebuild {

@@ -211,6 +211,8 @@ pub struct VerifyRun {
     pub name: &'static str,
     pub elements: usize,
     pub basis: BasisCounts,
+    /// What became of the steady drilling state's shapes in the run's basis.
+    pub steady_shapes: crate::rom::SteadyStatus,
     pub duration_s: f64,
     pub steps: usize,
     pub wall_time_s: f64,
@@ -331,6 +333,8 @@ pub struct VerifyReport {
     pub converged: bool,
     pub basis: BasisCounts,
     pub refined_basis: BasisCounts,
+    /// What became of the steady drilling state's shapes in the base run's basis.
+    pub steady_shapes: crate::rom::SteadyStatus,
     /// The regularisation widths the smoothing refinement divided by [`SMOOTHING_DIVISOR`]
     /// (empty when it was not run).
     pub smoothing_keys: Vec<&'static str>,
@@ -562,6 +566,7 @@ pub fn verify_with(
         converged: verdicts.values().all(|v| v.converged),
         metrics: verdicts,
         basis: base_run.basis,
+        steady_shapes: base_run.steady_shapes,
         refined_basis,
         smoothing_keys: if refinements.contains(&Refinement::Smoothing) {
             smoothing_keys(problem)
@@ -645,7 +650,13 @@ fn run_variant(
     let model = if v.unreduced {
         ReducedModel::unreduced(string, v.elements)
     } else {
-        ReducedModel::new(string, v.elements, &v.basis)
+        // The basis the optimizer's model has: its steady-state shapes at the problem's
+        // operating point.
+        let mesh = crate::model::Mesh {
+            elements: v.elements,
+            basis: v.basis.clone(),
+        };
+        crate::sim::reduced_model(string, &mesh, problem.operating_point)
     }
     .map_err(|source| VerifyError::Basis {
         run: v.name,
@@ -699,6 +710,7 @@ fn run_variant(
             name: v.name,
             elements: v.elements,
             basis: model.basis.counts(),
+            steady_shapes: model.steady,
             duration_s: v.duration,
             steps: out.stats.steps,
             wall_time_s: out.stats.wall_time_s,

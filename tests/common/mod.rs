@@ -114,6 +114,7 @@ pub fn small_basis() -> drillopt::model::BasisSpec {
         torsional: FamilySize::Count(2),
         axial: FamilySize::Count(2),
         static_corrections: true,
+        steady_shapes: false,
     }
 }
 

@@ -20,6 +20,7 @@ fn per_family(torsional: usize, axial: usize, static_corrections: bool) -> Basis
         torsional: FamilySize::Count(torsional),
         axial: FamilySize::Count(axial),
         static_corrections,
+        steady_shapes: false,
     }
 }
 

@@ -22,6 +22,7 @@ fn the_lowest_torsional_frequency_with_a_bit_inertia_is_the_closed_form() {
         torsional: FamilySize::Count(2),
         axial: FamilySize::Count(1),
         static_corrections: false,
+        steady_shapes: false,
     };
     for ratio in [f64::INFINITY, 1.0, 0.1] {
         // J_rod / J_tip = ratio (∞: no tip inertia, β L = π/2).

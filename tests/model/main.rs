@@ -27,6 +27,7 @@ mod simulator_energy;
 mod simulator_failures;
 mod simulator_physics;
 mod spinning_shaft;
+mod steady_shapes;
 mod steady_stability;
 mod stiffness_damping;
 mod stresses;

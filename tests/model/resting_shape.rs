@@ -93,6 +93,7 @@ fn the_default_basis_rests_on_the_wall_where_the_finite_element_model_does() {
         torsional: FamilySize::Count(8),
         axial: FamilySize::Count(4),
         static_corrections: false,
+        steady_shapes: false,
     };
     let bare = ReducedModel::new(&p.model, p.mesh.elements, &modes_only).unwrap();
     assert!(

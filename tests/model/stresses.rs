@@ -226,7 +226,7 @@ fn the_axial_force_along_a_string_of_sections_stays_between_the_wob_and_the_top_
         drillopt::sim::ModelKind::Unreduced,
         drillopt::sim::ModelKind::Reduced,
     ] {
-        let model = kind.build(&p.model, &p.mesh).unwrap();
+        let model = kind.build(&p.model, &p.mesh, p.operating_point).unwrap();
         let op = p.operating_point;
         let out = simulate(
             &model,

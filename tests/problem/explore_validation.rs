@@ -84,6 +84,7 @@ static_corrections = false
             torsional: FamilySize::Cutoff { hz: 300.0, min: 1 },
             axial: FamilySize::Count(1),
             static_corrections: false,
+            steady_shapes: false,
         }
     );
     assert!(cheap.study.explore.is_none());

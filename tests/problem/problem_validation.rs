@@ -953,7 +953,29 @@ fn basis_per_family_is_read_and_checked() {
             torsional: FamilySize::Cutoff { hz: 150.0, min: 1 },
             axial: FamilySize::Count(3),
             static_corrections: false,
+            steady_shapes: false,
         }
+    );
+    // The steady state's shapes only when asked for.
+    for (extra, steady) in [("", false), ("steady_shapes = true", true)] {
+        assert_eq!(
+            accepted(&with_basis("20", "8", extra))
+                .mesh
+                .basis
+                .steady_shapes(),
+            steady,
+            "{extra}"
+        );
+    }
+    // They join the resting shapes of the static corrections: refused without them.
+    refused(
+        &with_basis(
+            "20",
+            "8",
+            "static_corrections = false\nsteady_shapes = true",
+        ),
+        "mesh.basis.steady_shapes",
+        &["static_corrections = true", "got true"],
     );
     refused(
         &with_basis("0", "8", ""),
