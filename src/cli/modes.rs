@@ -51,9 +51,11 @@ pub fn run(args: &ModesArgs, units: crate::units::UnitSystem) -> anyhow::Result<
             ModalBasis::compute_lowest(&problem.model, elements, count)
                 .with_context(|| format!("modal analysis of {}", args.problem.display()))?
         }
-        // The simulator's basis, with the steady state's shapes when it takes them (a dense
-        // mesh: long meshes keep the sparse modal solve, without them).
-        None if problem.mesh.basis.steady_shapes() && !ModalBasis::sparse_mesh(elements) => {
+        // The simulator's basis, with the steady state's shapes when it takes them (up to the
+        // finite-element steady solve's size; longer meshes keep the sparse modal solve).
+        None if problem.mesh.basis.steady_shapes()
+            && bc.free_count() <= crate::sim::STEADY_SHAPES_MAX_UNKNOWNS =>
+        {
             let model =
                 crate::sim::reduced_model(&problem.model, &problem.mesh, problem.operating_point)
                     .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
@@ -62,7 +64,7 @@ pub fn run(args: &ModesArgs, units: crate::units::UnitSystem) -> anyhow::Result<
         }
         None => {
             if problem.mesh.basis.steady_shapes() {
-                // A sparse mesh is above the finite-element steady solve's size, as in `simulate`.
+                // Above the finite-element steady solve's size, as in `simulate`.
                 steady = crate::rom::SteadyStatus::MeshTooLarge {
                     unknowns: bc.free_count(),
                     limit: crate::sim::STEADY_SHAPES_MAX_UNKNOWNS,
