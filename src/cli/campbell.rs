@@ -148,6 +148,14 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
         .build(&problem.model, &problem.mesh, problem.operating_point)
         .map_err(|e| super::basis_error(&args.problem, &problem, e))?;
     super::check_basis(&args.problem, &problem, &model.basis.modes)?;
+    // Asked for and left out: the diagram is of the basis without the steady-state shapes.
+    if let Some(Err(warning)) = super::steady_shapes_line(
+        &args.problem,
+        model.steady,
+        crate::units::UnitSystem::Metric,
+    ) {
+        bar.suspend(|| eprintln!("{warning}"));
+    }
     let options = Linearisation {
         contact: !args.no_contact,
         damping: args.damping,

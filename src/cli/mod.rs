@@ -113,25 +113,12 @@ pub(crate) fn basis_error(
     )
 }
 
-/// What the basis' steady-state shapes are, for the line below the basis counts: where they come
-/// from when they are in (`Ok`), a warning that says why not when they were asked for and left
-/// out (`Err`), nothing when not asked for.
-pub(crate) fn steady_shapes_line(
-    path: &std::path::Path,
-    status: crate::rom::SteadyStatus,
-    units: crate::units::UnitSystem,
-) -> Option<Result<String, String>> {
+/// Why a basis that asked for the steady-state shapes has none (`None`: it has them, or did not
+/// ask).
+pub(crate) fn steady_shapes_missing(status: crate::rom::SteadyStatus) -> Option<String> {
     use crate::rom::SteadyStatus;
-    let why = match status {
-        SteadyStatus::NotAsked => return None,
-        SteadyStatus::Added { omega, v0, .. } => {
-            let (unit, v) = units.from_metric("m/h", crate::units::to_m_per_h(v0));
-            return Some(Ok(format!(
-                "  steady-state shapes: the finite-element model's steady drilling state at {:.1} rpm, {} {unit} (the file's operating point), in the basis",
-                crate::units::to_rpm(omega),
-                crate::units::fixed(v, 2)
-            )));
-        }
+    Some(match status {
+        SteadyStatus::NotAsked | SteadyStatus::Added { .. } => return None,
         SteadyStatus::MeshTooLarge { unknowns, limit } => format!(
             "the finite-element steady state is solved for at most {limit} free DOFs and this mesh has {unknowns}"
         ),
@@ -153,7 +140,26 @@ pub(crate) fn steady_shapes_line(
         SteadyStatus::NoFiniteElementStart => {
             "the finite-element model's steady state could not be found (a non-finite state)".into()
         }
-    };
+    })
+}
+
+/// What the basis' steady-state shapes are, for the line below the basis counts: where they come
+/// from when they are in (`Ok`), a warning naming `path` that says why not when they were asked
+/// for and left out (`Err`), nothing when not asked for.
+pub(crate) fn steady_shapes_line(
+    path: &std::path::Path,
+    status: crate::rom::SteadyStatus,
+    units: crate::units::UnitSystem,
+) -> Option<Result<String, String>> {
+    if let crate::rom::SteadyStatus::Added { omega, v0, .. } = status {
+        let (unit, v) = units.from_metric("m/h", crate::units::to_m_per_h(v0));
+        return Some(Ok(format!(
+            "  steady-state shapes: the finite-element model's steady drilling state at {:.1} rpm, {} {unit} (the file's operating point; for a free top, the block speed the basis without them finds there), in the basis",
+            crate::units::to_rpm(omega),
+            crate::units::fixed(v, 2)
+        )));
+    }
+    let why = steady_shapes_missing(status)?;
     Some(Err(format!(
         "warning: {}: the basis has no steady-state shapes ({why}): its steady wall forces and torque can differ from the finite-element model's (`drillopt verify` compares them); `[mesh.basis] steady_shapes = false` leaves them out without this warning",
         path.display()

@@ -341,6 +341,14 @@ pub fn evaluator<'a>(
     let ev = RobustEvaluator::new(problem, cache)
         .context("setting up the robust evaluation")?
         .with_progress(move || bar.inc(1));
+    // Asked for and left out: every sample's basis goes without the steady-state shapes.
+    if let Some(Err(warning)) = super::steady_shapes_line(
+        &problem.source,
+        ev.steady_shapes,
+        crate::units::UnitSystem::Metric,
+    ) {
+        bar.suspend(|| eprintln!("{warning}"));
+    }
     if let Some(c) = cache {
         // A multi-fidelity solve's explore runs share the cache under their own model hash.
         let explore = problem

@@ -232,19 +232,25 @@ fn print_table(
         Some(Err(warning)) => eprintln!("{warning}"),
         None => {}
     }
-    // A refinement whose basis lost the base's steady-state shapes compares unlike bases.
-    if matches!(r.steady_shapes, crate::rom::SteadyStatus::Added { .. }) {
-        for run in &r.runs {
-            if run.name != "unreduced"
-                && !matches!(run.steady_shapes, crate::rom::SteadyStatus::Added { .. })
-                && let Some(Err(why)) = super::steady_shapes_line(path, run.steady_shapes, units)
-            {
-                eprintln!(
-                    "warning: the {} run: {}; its change against the base run is partly that of the basis",
-                    run.name,
-                    why.trim_start_matches("warning: ")
-                );
-            }
+    // A refinement whose basis has the steady-state shapes where the base's has none, or the
+    // other way round, compares unlike bases.
+    let has = |status| matches!(status, crate::rom::SteadyStatus::Added { .. });
+    for run in r.runs.iter().filter(|run| run.name != "unreduced") {
+        if has(run.steady_shapes) != has(r.steady_shapes) {
+            let (with, without) = if has(run.steady_shapes) {
+                (run.name, "base")
+            } else {
+                ("base", run.name)
+            };
+            let why = [run.steady_shapes, r.steady_shapes]
+                .into_iter()
+                .find_map(super::steady_shapes_missing)
+                .unwrap_or_default();
+            eprintln!(
+                "warning: {}: the {with} run's basis has the steady-state shapes and the {without} run's has none ({why}): the {} run's change against the base is partly that of the basis",
+                path.display(),
+                run.name
+            );
         }
     }
     match r.steady_state {

@@ -59,7 +59,7 @@ pub struct SummaryJson<'a> {
     pub model: crate::sim::ModelKind,
     pub basis: crate::rom::BasisCounts,
     /// What became of the steady drilling state's shapes in the basis (`[mesh.basis]
-    /// steady_state`; `not_asked` for the unreduced model).
+    /// steady_shapes`; `not_asked` for the unreduced model).
     pub steady_shapes: crate::rom::SteadyStatus,
     /// The problem's nominal step and the largest step the run allowed (capped at 1/20 of the
     /// lowest torsional and axial periods), s.

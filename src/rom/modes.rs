@@ -25,7 +25,8 @@ use faer::{Mat, Par};
 pub struct ModalBasis {
     pub modes: Vec<Mode>,
     /// Mode shapes as columns, full 6(N+1) DOF (zero on constrained DOFs), Φᵀ M Φ = I and
-    /// Φᵀ K Φ = diag(ω²).
+    /// Φᵀ K Φ = diag(ω²) (with steady-state shapes: ω² on the diagonal, and terms between them
+    /// and the resting shapes off it).
     pub shapes: Mat<f64>,
 }
 

@@ -172,9 +172,19 @@ impl ReducedModel {
             damping
         };
         let damping = Operator::Dense(damping);
+        // Φᵀ K Φ is diag(ω²) for modes, static corrections and resting shapes (each block's
+        // Ritz step keeps it so); the steady-state shapes are M-orthogonal to the resting
+        // shapes but not K-orthogonal (resting shapes are not eigenvectors), so a basis with
+        // them keeps the full product (its diagonal is ω²).
+        let stiffness = if basis.counts().steady_shapes > 0 {
+            let k = to_na(&global.stiffness);
+            Operator::Dense(phi.transpose() * (&k * &phi))
+        } else {
+            Operator::Diagonal(omega2.clone())
+        };
         let operators = Operators {
             mass: Operator::Identity,
-            stiffness: Operator::Diagonal(omega2.clone()),
+            stiffness,
             damping,
             jacobian_pattern: None,
         };

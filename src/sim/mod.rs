@@ -33,7 +33,10 @@ pub use run::{
 pub use sampler::{SampleInterval, Sampler};
 pub use series::{CHANNELS, Channel, Frame, Row, Sink, TimeSeries, at};
 pub use stability::{MAX_UNKNOWNS, NEUTRAL, SteadyStability, steady_stability};
-pub use steady_basis::{STEADY_SHAPES_MAX_UNKNOWNS, reduced_model};
+pub use steady_basis::{
+    FiniteElementSteadyState, STEADY_SHAPES_MAX_UNKNOWNS, finite_element_steady_state,
+    reduced_model, reduced_model_with, with_status,
+};
 
 /// Revision of the simulator's numerics, part of every cache key: bump it with any change that
 /// can move a simulated number (model, basis, start, integrator, metrics), so that results of

@@ -10,12 +10,14 @@
 //! load-dependent Ritz vector of the actual loads (Wilson, Yuan & Dickens 1982): the
 //! finite-element steady state itself, in the span of the basis ([`crate::rom::SteadyState`]).
 //!
-//! [`reduced_model`] builds the plain basis, finds its steady drilling state at the operating
-//! point (the pre-loaded start; for a free top its steady block speed), runs Newton on the
-//! finite-element model of the same mesh from that state (full friction, no continuation: the
-//! reduced state has already climbed), and builds the basis again with the state's lateral
-//! shapes. When a step fails the plain model is returned with the reason
-//! ([`SteadyStatus`]): the shapes improve a basis, and their absence is reported, not hidden.
+//! [`reduced_model`] builds the plain basis, finds its steady drilling state without the wall's
+//! friction at the operating point (for a free top at the steady block speed of its pre-loaded
+//! start), runs the finite-element model's own pre-loaded start of the same mesh from it (the
+//! frictionless stage, then the continuation in the friction; from the straight string when
+//! that fails), and builds the basis again with the state's lateral shapes. When a step fails
+//! the plain model is returned with the reason ([`SteadyStatus`]): the shapes improve a basis,
+//! and the commands report their absence (`simulate`, `verify`, `modes`, `campbell`, the
+//! studies).
 
 use super::run::preloaded_from;
 use super::{Effects, SimulationError, free_top_start, preloaded_equilibrium};
@@ -29,6 +31,19 @@ use nalgebra::DVector;
 /// finite-element reference keeps the shapes. The finite-element Newton matrices are assembled
 /// densely (n² entries; 1582 unknowns, a 264-element mesh: 26 s, one core).
 pub const STEADY_SHAPES_MAX_UNKNOWNS: usize = 2600;
+
+/// The finite-element steady drilling state that a basis takes its shapes from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FiniteElementSteadyState {
+    /// The state on every DOF of the mesh, 6(N+1), m and rad (zero on the constrained ones).
+    pub state: Vec<f64>,
+    /// Ω (rad/s) and the feed V (m/s) it is the steady state of: the problem's operating point,
+    /// with a free top's steady block speed found by the basis without the shapes.
+    pub omega: f64,
+    pub v0: f64,
+    /// Newton iterations of the finite-element start.
+    pub iterations: usize,
+}
 
 /// The reduced model of `string` on `mesh` whose basis holds the shapes of the finite-element
 /// steady drilling state at `op` when `mesh.basis` asks for them (see the module doc);
@@ -45,75 +60,101 @@ pub fn reduced_model(
     if !mesh.basis.steady_shapes() {
         return Ok(plain);
     }
+    match finite_element_steady_state(&plain, op) {
+        Ok(steady) => reduced_model_with(string, mesh, &steady),
+        Err(status) => Ok(with_status(plain, status)),
+    }
+}
+
+/// The reduced model of `string` on `mesh` with the shapes of `steady` (found for this string or
+/// another on the same mesh: a study's samples share their nominal string's, so that a sample's
+/// basis does not depend on which other keys are uncertain); `model.steady` is
+/// [`SteadyStatus::Added`].
+///
+/// Errors: those of the basis ([`ReducedModel::with_steady_state`]).
+pub fn reduced_model_with(
+    string: &Drillstring,
+    mesh: &Mesh,
+    steady: &FiniteElementSteadyState,
+) -> Result<ReducedModel, BasisError> {
+    let mut model = ReducedModel::with_steady_state(
+        string,
+        mesh.elements,
+        &mesh.basis,
+        SteadyState(&steady.state),
+    )?;
+    model.steady = SteadyStatus::Added {
+        omega: steady.omega,
+        v0: steady.v0,
+        iterations: steady.iterations,
+    };
+    Ok(model)
+}
+
+/// The finite-element steady drilling state of `plain`'s string and mesh at `op`, started from
+/// `plain`'s (a reduced model of them without the shapes); the reason when it cannot be found.
+pub fn finite_element_steady_state(
+    plain: &ReducedModel,
+    op: OperatingPoint,
+) -> Result<FiniteElementSteadyState, SteadyStatus> {
+    let string = &plain.string;
     let unknowns = plain.bc.free_count();
     if unknowns > STEADY_SHAPES_MAX_UNKNOWNS {
-        return Ok(with_status(
-            plain,
-            SteadyStatus::MeshTooLarge {
-                unknowns,
-                limit: STEADY_SHAPES_MAX_UNKNOWNS,
-            },
-        ));
+        return Err(SteadyStatus::MeshTooLarge {
+            unknowns,
+            limit: STEADY_SHAPES_MAX_UNKNOWNS,
+        });
     }
     // The operating point of the steady state: a free top's at the block speed of the plain
     // basis' start.
     let op = if string.top.is_free() {
-        match free_top_start(&plain, op, Effects::ALL) {
+        match free_top_start(plain, op, Effects::ALL) {
             Ok((_, v0, _)) => OperatingPoint { v0, ..op },
-            Err(_) => return Ok(with_status(plain, SteadyStatus::NoReducedStart)),
+            Err(_) => return Err(SteadyStatus::NoReducedStart),
         }
     } else {
         op
     };
     // The plain basis' steady state without the wall's friction starts the finite-element
-    // model's own pre-loaded start (Newton from the straight string crawls along the stiff wall
-    // for hundreds of iterations on a 3 km string and did not converge); from the straight
-    // string when that fails. Φ_fe is the free DOFs' columns of the identity: Φ_feᵀ x restricts
-    // x to them.
-    let Ok((q, _)) = preloaded_from(&plain, op, Effects::ALL, DVector::zeros(plain.size()), true)
+    // model's own pre-loaded start (its frictionless stage, then the continuation in the
+    // friction); Newton from the straight string crawls along the stiff wall for hundreds of
+    // iterations on a 3 km string. From the straight string when that fails; when both fail, the
+    // first failure is the one reported. Φ_fe is the free DOFs' columns of the identity: Φ_feᵀ x
+    // restricts x to them.
+    let Ok((q, _)) = preloaded_from(plain, op, Effects::ALL, DVector::zeros(plain.size()), true)
     else {
-        return Ok(with_status(plain, SteadyStatus::NoReducedStart));
+        return Err(SteadyStatus::NoReducedStart);
     };
-    let fe = ReducedModel::unreduced_for_statics(string, mesh.elements);
+    let fe = ReducedModel::unreduced_for_statics(string, plain.elements());
     let guess = fe.phi.transpose() * (&plain.phi * &q);
-    let found = preloaded_from(&fe, op, Effects::ALL, guess, false)
-        .or_else(|_| preloaded_equilibrium(&fe, op, Effects::ALL));
+    let found = match preloaded_from(&fe, op, Effects::ALL, guess, false) {
+        Ok(found) => Ok(found),
+        Err(first) => preloaded_equilibrium(&fe, op, Effects::ALL).map_err(|_| first),
+    };
     match found {
-        Ok((q_fe, iterations)) => {
-            let state = &fe.phi * &q_fe;
-            let mut model = ReducedModel::with_steady_state(
-                string,
-                mesh.elements,
-                &mesh.basis,
-                SteadyState(state.as_slice()),
-            )?;
-            model.steady = SteadyStatus::Added {
-                omega: op.omega,
-                v0: op.v0,
-                iterations,
-            };
-            Ok(model)
+        Ok((q_fe, iterations)) => Ok(FiniteElementSteadyState {
+            state: (&fe.phi * &q_fe).as_slice().to_vec(),
+            omega: op.omega,
+            v0: op.v0,
+            iterations,
+        }),
+        Err(SimulationError::StaticEquilibrium { iterations, update }) => {
+            Err(SteadyStatus::NotConverged { iterations, update })
         }
-        Err(SimulationError::StaticEquilibrium { iterations, update }) => Ok(with_status(
-            plain,
-            SteadyStatus::NotConverged { iterations, update },
-        )),
         Err(SimulationError::FrictionContinuation {
             reached,
             iterations,
             ..
-        }) => Ok(with_status(
-            plain,
-            SteadyStatus::FrictionContinuation {
-                reached,
-                iterations,
-            },
-        )),
-        Err(_) => Ok(with_status(plain, SteadyStatus::NoFiniteElementStart)),
+        }) => Err(SteadyStatus::FrictionContinuation {
+            reached,
+            iterations,
+        }),
+        Err(_) => Err(SteadyStatus::NoFiniteElementStart),
     }
 }
 
-fn with_status(mut model: ReducedModel, status: SteadyStatus) -> ReducedModel {
+/// `model` with `status`.
+pub fn with_status(mut model: ReducedModel, status: SteadyStatus) -> ReducedModel {
     model.steady = status;
     model
 }

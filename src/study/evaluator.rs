@@ -57,6 +57,8 @@ pub struct RobustEvaluator<'a> {
     executor: Box<dyn SampleExecutor + 'a>,
     /// The fidelity its evaluations are tagged with ([`Fidelity::Full`] unless set).
     fidelity: Fidelity,
+    /// What became of the steady-state shapes of the models' basis (the nominal string's).
+    pub steady_shapes: crate::rom::SteadyStatus,
 }
 
 /// Why the evaluator could not be set up.
@@ -96,6 +98,10 @@ struct CanonicalModel<'a> {
     /// Which excitations `critical_speed_margin` meets each family with
     /// ([`crate::campbell::CRITICAL_SPEED_RULE`]).
     critical_speed_rule: u32,
+    /// The operating point whose steady state the basis holds (`[mesh.basis] steady_shapes`);
+    /// left out without them, so that other problems keep their keys.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    steady_shapes_at: Option<crate::model::OperatingPoint>,
 }
 
 /// [`stable_hash`] of the canonical serialisation of everything that determines a simulation's
@@ -120,6 +126,11 @@ pub fn model_hash(problem: &Problem) -> u64 {
             .collect(),
         campbell: &problem.campbell,
         critical_speed_rule: crate::campbell::CRITICAL_SPEED_RULE,
+        steady_shapes_at: problem
+            .mesh
+            .basis
+            .steady_shapes()
+            .then_some(problem.operating_point),
     };
     let bytes = serde_json::to_vec(&canonical).expect("the model serialises");
     stable_hash(&bytes)
@@ -163,9 +174,40 @@ impl<'a> RobustEvaluator<'a> {
             .uncertain
             .iter()
             .any(|u| u.key.enters(&problem.model) == Enters::LinearOperators);
-        let build = |i: usize, s: &Drillstring| {
-            crate::sim::reduced_model(s, &problem.mesh, problem.operating_point)
-                .map_err(|source| SetupError::Modes { sample: i, source })
+        // The steady-state shapes (when the basis asks for them) are the nominal string's at the
+        // problem's operating point, for every sample: a sample's basis does not depend on which
+        // other keys are uncertain.
+        let modes = |i: usize| move |source| SetupError::Modes { sample: i, source };
+        let nominal_steady = if problem.mesh.basis.steady_shapes() {
+            let plain =
+                ReducedModel::new(&problem.model, problem.mesh.elements, &problem.mesh.basis)
+                    .map_err(modes(0))?;
+            Some(crate::sim::finite_element_steady_state(
+                &plain,
+                problem.operating_point,
+            ))
+        } else {
+            None
+        };
+        let steady_shapes = match &nominal_steady {
+            None => crate::rom::SteadyStatus::NotAsked,
+            Some(Ok(found)) => crate::rom::SteadyStatus::Added {
+                omega: found.omega,
+                v0: found.v0,
+                iterations: found.iterations,
+            },
+            Some(Err(status)) => *status,
+        };
+        let build = |i: usize, s: &Drillstring| match &nominal_steady {
+            Some(Ok(found)) => {
+                crate::sim::reduced_model_with(s, &problem.mesh, found).map_err(modes(i))
+            }
+            Some(Err(status)) => ReducedModel::new(s, problem.mesh.elements, &problem.mesh.basis)
+                .map(|m| crate::sim::with_status(m, *status))
+                .map_err(modes(i)),
+            None => {
+                ReducedModel::new(s, problem.mesh.elements, &problem.mesh.basis).map_err(modes(i))
+            }
         };
         let models = if rebuild {
             strings
@@ -223,6 +265,7 @@ impl<'a> RobustEvaluator<'a> {
             progress: None,
             executor: Box::new(Threads),
             fidelity: Fidelity::Full,
+            steady_shapes,
         })
     }
 

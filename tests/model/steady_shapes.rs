@@ -114,6 +114,58 @@ fn the_steady_shapes_are_twins_in_the_two_bending_planes() {
     }
 }
 
+/// The steady-state shapes are M-orthogonal to the resting shapes but not K-orthogonal (resting
+/// shapes are not eigenvectors), so the reduced stiffness of such a basis is the full Φᵀ K Φ, not
+/// diag(ω²): it must equal the reduced strain tangent at the unstrained state (the elements' own
+/// stiffness, projected), off-diagonal terms included; the linearisations (Campbell, the dynamics'
+/// first Newton matrix) read it.
+#[test]
+fn the_reduced_stiffness_of_a_basis_with_steady_shapes_is_the_projected_one() {
+    let p = load("problems/field/well_1km.toml");
+    let model = ModelKind::Reduced
+        .build(&p.model, &with_steady_shapes(&p, true), p.operating_point)
+        .unwrap();
+    let n = model.size();
+    let stiffness = model.stiffness.to_dense(n);
+    let mut tangent = nalgebra::DMatrix::zeros(n, n);
+    let mut scratch = nalgebra::DMatrix::zeros(model.phi.nrows(), n);
+    let mut work = model.blocks.workspace();
+    model.add_strain_tangent(
+        &nalgebra::DVector::zeros(model.phi.nrows()),
+        &mut tangent,
+        &mut scratch,
+        &mut work,
+        true,
+    );
+    let scale = stiffness.amax();
+    let mut off_diagonal = 0.0f64;
+    for i in 0..n {
+        for j in 0..n {
+            assert!(
+                (stiffness[(i, j)] - tangent[(i, j)]).abs() < 1e-9 * scale,
+                "K[{i},{j}] = {} against the tangent's {}",
+                stiffness[(i, j)],
+                tangent[(i, j)]
+            );
+            if i != j {
+                off_diagonal = off_diagonal.max(stiffness[(i, j)].abs());
+            }
+        }
+        // Its diagonal is ω², each vector's Rayleigh quotient (the mHz modes of a 1 km string
+        // to the product's round-off).
+        assert!(
+            (stiffness[(i, i)] - model.omega2[i]).abs() < 1e-9 * scale,
+            "K[{i},{i}] = {}, ω² = {}",
+            stiffness[(i, i)],
+            model.omega2[i]
+        );
+    }
+    assert!(
+        off_diagonal > 1e-6 * scale,
+        "the test needs coupling terms: {off_diagonal} of {scale}"
+    );
+}
+
 /// Above the finite-element solve's size the basis goes without the shapes and says so; a basis
 /// that does not ask for them (`steady_shapes = false`, the default) is the plain one.
 #[test]

@@ -69,6 +69,25 @@ fn the_key_changes_with_everything_that_moves_a_simulation_and_nothing_else() {
     }
 }
 
+/// The operating point enters the key only through the basis it sets: with `[mesh.basis]
+/// steady_shapes = true` the basis holds the steady state of the file's operating point, so
+/// another point is another model; without them the point is a study's variable, not the model's.
+#[test]
+fn the_operating_point_enters_the_key_only_with_the_steady_shapes() {
+    let base = tiny_text();
+    let moved = |text: &str| text.replacen("omega = \"60 rpm\"", "omega = \"70 rpm\"", 1);
+    assert_ne!(moved(&base), base);
+    assert_eq!(hash_of(&moved(&base)), hash_of(&base));
+    let steady = base.replacen("axial = 2\n", "axial = 2\nsteady_shapes = true\n", 1);
+    assert_ne!(steady, base);
+    assert_ne!(
+        hash_of(&steady),
+        hash_of(&base),
+        "the shapes are another basis"
+    );
+    assert_ne!(hash_of(&moved(&steady)), hash_of(&steady));
+}
+
 /// The canonical form of a problem, and with it the key of its cached results, does not change
 /// with the code's structure: these are the keys of three shipped problems at revision 12 (the
 /// seed's with the bit inertia its file carries) and critical-speed rule 2 (axial and torsional
