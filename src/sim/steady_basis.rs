@@ -6,7 +6,8 @@
 //! section boundary or the clamped top, the friction's climb up the wall moves the contacts by
 //! such patterns: on the shipped 1 km well the default basis put the steady peak wall force at
 //! the stabiliser 42.6 % above the finite-element model's, on the 466 m collar string 268 % above
-//! (at the top), and on a 1.6 km well it put 10 % more torque on the string. The remedy is the
+//! (at the top), and on a 1.6 km well 62 % above, with the torque up to 10 % off along the
+//! string. The remedy is the
 //! load-dependent Ritz vector of the actual loads (Wilson, Yuan & Dickens 1982): the
 //! finite-element steady state itself, in the span of the basis ([`crate::rom::SteadyState`]).
 //!
@@ -17,7 +18,9 @@
 //! that fails), and builds the basis again with the state's lateral shapes. When a step fails
 //! the plain model is returned with the reason ([`SteadyStatus`]): the shapes improve a basis,
 //! and the commands report their absence (`simulate`, `verify`, `modes`, `campbell`, the
-//! studies).
+//! studies). A file asks for them (`[mesh.basis] steady_shapes = true`, off by default): on a
+//! coarse basis they can leave the dynamics unstable where the finite-element model is not
+//! (docs/model.md, "Converged model").
 
 use super::run::preloaded_from;
 use super::{Effects, SimulationError, free_top_start, preloaded_equilibrium};
