@@ -48,6 +48,17 @@ pub struct FiniteElementSteadyState {
     pub iterations: usize,
 }
 
+impl FiniteElementSteadyState {
+    /// The status of a basis that holds its shapes.
+    pub fn status(&self) -> SteadyStatus {
+        SteadyStatus::Added {
+            omega: self.omega,
+            v0: self.v0,
+            iterations: self.iterations,
+        }
+    }
+}
+
 /// The reduced model of `string` on `mesh` whose basis holds the shapes of the finite-element
 /// steady drilling state at `op` when `mesh.basis` asks for them (see the module doc);
 /// `model.steady` says what became of them.
@@ -86,11 +97,7 @@ pub fn reduced_model_with(
         &mesh.basis,
         SteadyState(&steady.state),
     )?;
-    model.steady = SteadyStatus::Added {
-        omega: steady.omega,
-        v0: steady.v0,
-        iterations: steady.iterations,
-    };
+    model.steady = steady.status();
     Ok(model)
 }
 

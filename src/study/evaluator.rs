@@ -191,11 +191,7 @@ impl<'a> RobustEvaluator<'a> {
         };
         let steady_shapes = match &nominal_steady {
             None => crate::rom::SteadyStatus::NotAsked,
-            Some(Ok(found)) => crate::rom::SteadyStatus::Added {
-                omega: found.omega,
-                v0: found.v0,
-                iterations: found.iterations,
-            },
+            Some(Ok(found)) => found.status(),
             Some(Err(status)) => *status,
         };
         let build = |i: usize, s: &Drillstring| match &nominal_steady {
