@@ -30,6 +30,19 @@ pub enum EigenError {
 
 /// The `count` smallest eigenpairs of K φ = λ M φ: eigenvalues ascending, M-normalised vectors as
 /// columns. `par` is the parallelism faer may use (use `Par::Seq` inside rayon tasks).
+///
+/// Solved in inverse form when K is positive definite, as the string's constraints make it:
+/// K = L Lᵀ (Cholesky), B = L⁻¹ M L⁻ᵀ, B y = μ y, λ = 1/μ, φ = L⁻ᵀ y / √μ. The lowest modes are the
+/// largest μ, so their round-off is relative to themselves (ε·n·μ_max), not to the highest
+/// eigenvalue of the mesh as in the standard form L_M⁻¹ K L_M⁻ᵀ: a beam of short Timoshenko
+/// elements has rotary-inertia modes at 1e10–1e11 1/s² against mHz bending modes of a long span
+/// (1e-3 1/s²), which the standard form gets wrong or non-positive (Parlett, The Symmetric
+/// Eigenvalue Problem, SIAM 1998, §15.2–15.3; Ericsson & Ruhe, Math. Comp. 35, 1980). A K that
+/// is singular (rigid-body modes) or indefinite takes the standard form (a small negative shift
+/// would make the round-off of every other mode relative to the shift's 1/|σ|).
+///
+/// Errors: [`EigenError::TooMany`]; [`EigenError::MassNotPositiveDefinite`] with the pivot's row;
+/// [`EigenError::NoConvergence`] when faer's self-adjoint solver fails.
 pub fn generalized_symmetric_eigen(
     k: MatRef<'_, f64>,
     m: MatRef<'_, f64>,
@@ -43,12 +56,51 @@ pub fn generalized_symmetric_eigen(
             size: n,
         });
     }
-    let llt = m.llt(Side::Lower).map_err(|e| match e {
+    let llt_m = m.llt(Side::Lower).map_err(|e| match e {
         LltError::NonPositivePivot { index } => {
             EigenError::MassNotPositiveDefinite { pivot: index }
         }
     })?;
-    let l = llt.L();
+    if count == 0 {
+        return Ok((Vec::new(), Mat::zeros(n, 0)));
+    }
+    let Ok(llt_k) = k.llt(Side::Lower) else {
+        return standard_form(k, llt_m.L(), count, par);
+    };
+    let l = llt_k.L();
+    // B = L⁻¹ M L⁻ᵀ by two triangular solves (M symmetric).
+    let mut x = m.to_owned();
+    solve_lower_triangular_in_place(l, x.as_mut(), par);
+    let mut b = x.transpose().to_owned();
+    solve_lower_triangular_in_place(l, b.as_mut(), par);
+    let b = Mat::from_fn(n, n, |i, j| 0.5 * (b[(i, j)] + b[(j, i)]));
+    let evd = b
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|_| EigenError::NoConvergence {
+            converged: 0,
+            asked: count,
+        })?;
+    // μ ascending: the largest `count`, taken from the top, are the lowest λ in ascending order.
+    let s = evd.S().column_vector();
+    let mu: Vec<f64> = (0..count).map(|i| s[n - 1 - i]).collect();
+    if mu.iter().any(|&v| v.is_nan() || v <= 0.0) {
+        return standard_form(k, llt_m.L(), count, par);
+    }
+    let values: Vec<f64> = mu.iter().map(|&v| 1.0 / v).collect();
+    let u = evd.U();
+    let mut vectors = Mat::from_fn(n, count, |i, j| u[(i, n - 1 - j)] / mu[j].sqrt());
+    solve_upper_triangular_in_place(l.transpose(), vectors.as_mut(), par);
+    Ok((values, vectors))
+}
+
+/// The standard form with M = L Lᵀ: A = L⁻¹ K L⁻ᵀ, A y = λ y, φ = L⁻ᵀ y (for an indefinite K).
+fn standard_form(
+    k: MatRef<'_, f64>,
+    l: MatRef<'_, f64>,
+    count: usize,
+    par: Par,
+) -> Result<(Vec<f64>, Mat<f64>), EigenError> {
+    let n = k.nrows();
     // X = L⁻¹ K, then A = L⁻¹ Xᵀ = L⁻¹ K L⁻ᵀ (K symmetric).
     let mut x = k.to_owned();
     solve_lower_triangular_in_place(l, x.as_mut(), par);
@@ -98,6 +150,34 @@ mod tests {
                 assert_relative_eq!(residual[(i, j)], 0.0, epsilon = 1e-13);
             }
         }
+    }
+
+    #[test]
+    fn a_singular_stiffness_takes_the_standard_form() {
+        // A free two-mass chain: K singular (λ = 0, 2 k/m).
+        let k = Mat::from_fn(2, 2, |i, j| [[1.0, -1.0], [-1.0, 1.0]][i][j]);
+        let m = Mat::<f64>::identity(2, 2);
+        let (values, vectors) =
+            generalized_symmetric_eigen(k.as_ref(), m.as_ref(), 2, Par::Seq).unwrap();
+        assert!(values[0].abs() < 1e-12, "rigid-body λ {}", values[0]);
+        assert_relative_eq!(values[1], 2.0, max_relative = 1e-12);
+        let gram = vectors.transpose() * &m * &vectors;
+        assert_relative_eq!(gram[(0, 0)], 1.0, epsilon = 1e-12);
+        assert_relative_eq!(gram[(1, 1)], 1.0, epsilon = 1e-12);
+        assert_relative_eq!(gram[(0, 1)], 0.0, epsilon = 1e-12);
+        // The rigid-body vector is (1, 1)/√2.
+        assert_relative_eq!(vectors[(0, 0)], vectors[(1, 0)], epsilon = 1e-12);
+    }
+
+    #[test]
+    fn an_indefinite_stiffness_takes_the_standard_form() {
+        let k = Mat::from_fn(2, 2, |i, j| [[-1.0, 0.5], [0.5, 2.0]][i][j]);
+        let m = Mat::<f64>::identity(2, 2);
+        let (values, _) = generalized_symmetric_eigen(k.as_ref(), m.as_ref(), 2, Par::Seq).unwrap();
+        // λ = (1 ∓ √(9 + 1))/2.
+        let root = 10.0f64.sqrt();
+        assert_relative_eq!(values[0], (1.0 - root) / 2.0, max_relative = 1e-12);
+        assert_relative_eq!(values[1], (1.0 + root) / 2.0, max_relative = 1e-12);
     }
 
     #[test]

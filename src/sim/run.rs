@@ -565,7 +565,8 @@ pub const SOFT_STRING_FACTOR: f64 = 4.0;
 
 /// Whether the pre-loaded state observed as `obs` (at rest relative to the rigid motion, every
 /// effect on) matches the soft-string torque and drag of the string ([`crate::model::SoftString`]):
-/// its top torque and top force each within 5 % of the estimate, or with a friction part (the
+/// its top torque and top force each within 5 % of the estimate (and a round-off floor of 1e-9
+/// of the string's weight on the wall, and of its moment at the hole's radius), or with a friction part (the
 /// top load less the bit's and the damping's) within [`SOFT_STRING_FACTOR`] of the estimate's
 /// either way; and the bit's elastic displacement and twist within that factor of the
 /// estimate's (plus a gap and 0.1 rad, for strings whose estimate is near zero).
@@ -578,9 +579,13 @@ pub fn check_against_soft_string(
     let ss = crate::model::SoftString::steady(string, op);
     let (fa, ft) = ss.friction_part(string.length);
     let k = SOFT_STRING_FACTOR;
-    let load = |state: f64, estimate: f64, friction: f64| {
+    // A round-off floor for an estimate of 0 (off bottom without an axial slip: a top force of
+    // −3e-14 N is 0): 1e-9 of the string's weight on the wall, and of its moment at the hole's
+    // radius.
+    let weight = ss.normal_per_length.abs() * string.length;
+    let load = |state: f64, estimate: f64, friction: f64, floor: f64| {
         let part = state - (estimate - friction);
-        (state - estimate).abs() <= 0.05 * estimate.abs()
+        (state - estimate).abs() <= 0.05 * estimate.abs() + floor
             || (friction > 0.0 && part >= friction / k && part <= friction * k)
     };
     let displacement =
@@ -591,13 +596,18 @@ pub fn check_against_soft_string(
             "top torque (N m)",
             obs.top_torque,
             ss.top_torque,
-            load(obs.top_torque, ss.top_torque, ft),
+            load(
+                obs.top_torque,
+                ss.top_torque,
+                ft,
+                1e-9 * weight * string.borehole_radius,
+            ),
         ),
         (
             "top force (N)",
             obs.top_force,
             ss.top_force,
-            load(obs.top_force, ss.top_force, fa),
+            load(obs.top_force, ss.top_force, fa, 1e-9 * weight),
         ),
         (
             "elastic bit displacement (m)",

@@ -89,7 +89,7 @@ fn the_operating_point_enters_the_key_only_with_the_steady_shapes() {
 }
 
 /// The canonical form of a problem, and with it the key of its cached results, does not change
-/// with the code's structure: these are the keys of three shipped problems at revision 12 (the
+/// with the code's structure: these are the keys of three shipped problems at revision 13 (the
 /// seed's with the bit inertia its file carries) and critical-speed rule 2 (axial and torsional
 /// modes met against the bit's multiple only: every cached `critical_speed_margin` of rule 1 is
 /// stale, so every key moved with it). If this test fails while the golden run below
@@ -99,19 +99,24 @@ fn the_operating_point_enters_the_key_only_with_the_steady_shapes() {
 #[test]
 fn the_keys_of_shipped_problems_are_those_of_their_revision() {
     assert_eq!(
-        SIMULATOR_REVISION, 12,
+        SIMULATOR_REVISION, 13,
         "a new revision: record the new keys of these problems here"
     );
+    let mut keys = Vec::new();
     for (file, key) in [
         (
             "problems/regression/tiny_string.toml",
-            0x4fec_2b3b_9bcc_4075u64,
+            0x702b_50c8_a247_ea81u64,
         ),
-        ("problems/seed_mc2014.toml", 0xd7e9_9219_a438_9bee),
-        ("problems/seed_detournay.toml", 0x9d85_6ff0_0562_119c),
+        ("problems/seed_mc2014.toml", 0x7f93_3e99_e8f6_e7f9),
+        ("problems/seed_detournay.toml", 0x8e8d_bb95_8194_fbcb),
     ] {
         let p = Problem::load(Path::new(env!("CARGO_MANIFEST_DIR")).join(file)).unwrap();
-        assert_eq!(model_hash(&p), key, "{file}: {:016x}", model_hash(&p));
+        println!("{file}: {:#x}", model_hash(&p));
+        keys.push((file, model_hash(&p), key));
+    }
+    for (file, got, key) in keys {
+        assert_eq!(got, key, "{file}: {got:016x}");
     }
 }
 
@@ -120,19 +125,21 @@ fn the_keys_of_shipped_problems_are_those_of_their_revision() {
 /// ignored) and record the new values here with the new revision.
 #[test]
 fn golden_run_of_the_current_simulator_revision() {
-    const GOLDEN_REVISION: u32 = 12;
+    const GOLDEN_REVISION: u32 = 13;
     // (metric, value) of the run below at revision GOLDEN_REVISION (the dynamics the same as
     // revision 9's: revision 10 changed only strings of sections and strings of 5 km and more;
     // revision 11, the wall tangent kept apart in the Newton matrix, does not move this run;
     // revision 12, the stresses' element-average membrane strain and the reduced model's force
-    // summation, moves only the stress metrics, recorded from it on).
+    // summation, moves only the stress metrics, recorded from it on; revision 13, the basis'
+    // eigen-solve in inverse form, with the file's new bit inertia of 0.05 kg m², whose bit
+    // no longer chatters at 613 1/s amplifying round-off).
     const GOLDEN: [(&str, f64); 6] = [
-        ("mean_wob_n", 98363.61820141561),
-        ("mean_tob_nm", 4438.80387354636),
-        ("stick_slip_severity", 0.22543280983601532),
-        ("max_bit_speed_ratio", 1.1684836758757533),
-        ("max_compression_n", 100480.67279795538),
-        ("max_von_mises_pa", 83371572.6113704),
+        ("mean_wob_n", 98365.66794497636),
+        ("mean_tob_nm", 4397.227841011238),
+        ("stick_slip_severity", 0.23582128553015358),
+        ("max_bit_speed_ratio", 1.1943430110509772),
+        ("max_compression_n", 98692.55472643209),
+        ("max_von_mises_pa", 88148397.94391786),
     ];
     let values = common::tiny_run_metrics(&Problem::load(TINY).unwrap());
     let get = |k: &str| values.iter().find(|(n, _)| *n == k).unwrap().1;
