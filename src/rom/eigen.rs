@@ -1,7 +1,9 @@
 //! The generalized symmetric eigenproblem K φ = λ M φ with M positive definite.
 //!
-//! faer has no symmetric generalized solver, so reduce to standard form: M = L Lᵀ (Cholesky),
-//! A = L⁻¹ K L⁻ᵀ by two triangular solves, A y = λ y (self-adjoint), φ = L⁻ᵀ y. The φ are then
+//! faer has no symmetric generalized solver, so reduce to a self-adjoint one by Cholesky and two
+//! triangular solves: in inverse form when K is positive definite (K = L Lᵀ, B = L⁻¹ M L⁻ᵀ,
+//! B y = μ y, λ = 1/μ, φ = L⁻ᵀ y / √μ), whose round-off of the lowest modes is relative to
+//! themselves; else in standard form (M = L Lᵀ, A = L⁻¹ K L⁻ᵀ, A y = λ y, φ = L⁻ᵀ y). The φ are
 //! M-orthonormal: φᵢᵀ M φⱼ = δᵢⱼ.
 
 use faer::linalg::cholesky::llt::factor::LltError;
@@ -39,7 +41,10 @@ pub enum EigenError {
 /// (1e-3 1/s²), which the standard form gets wrong or non-positive (Parlett, The Symmetric
 /// Eigenvalue Problem, SIAM 1998, §15.2–15.3; Ericsson & Ruhe, Math. Comp. 35, 1980). A K that
 /// is singular (rigid-body modes) or indefinite takes the standard form (a small negative shift
-/// would make the round-off of every other mode relative to the shift's 1/|σ|).
+/// would make the round-off of every other mode relative to the shift's 1/|σ|), and so do the
+/// pairs whose μ is below B's round-off, n ε μ_max (the highest of a nearly complete set). A K
+/// that factors with a tiny pivot (nearly singular) is not detected: the string's constraints
+/// keep K well away from that.
 ///
 /// Errors: [`EigenError::TooMany`]; [`EigenError::MassNotPositiveDefinite`] with the pivot's row;
 /// [`EigenError::NoConvergence`] when faer's self-adjoint solver fails.
@@ -82,18 +87,37 @@ pub fn generalized_symmetric_eigen(
         })?;
     // μ ascending: the largest `count`, taken from the top, are the lowest λ in ascending order.
     let s = evd.S().column_vector();
-    let mu: Vec<f64> = (0..count).map(|i| s[n - 1 - i]).collect();
-    if mu.iter().any(|&v| v.is_nan() || v <= 0.0) {
+    let mu_max = s[n - 1];
+    if mu_max.is_nan() || mu_max <= 0.0 {
         return standard_form(k, llt_m.L(), count, par);
     }
-    let values: Vec<f64> = mu.iter().map(|&v| 1.0 / v).collect();
+    // The pairs whose μ stands above the round-off of B (n ε μ_max) come from the inverse form;
+    // the rest, the highest λ of a nearly complete set (a cutoff family, a block solved whole),
+    // from the standard form, whose round-off is relative to them.
+    let floor = n as f64 * f64::EPSILON * mu_max;
+    let good = (0..count).take_while(|&i| s[n - 1 - i] > floor).count();
+    let mu: Vec<f64> = (0..good).map(|i| s[n - 1 - i]).collect();
     let u = evd.U();
-    let mut vectors = Mat::from_fn(n, count, |i, j| u[(i, n - 1 - j)] / mu[j].sqrt());
-    solve_upper_triangular_in_place(l.transpose(), vectors.as_mut(), par);
+    let mut low = Mat::from_fn(n, good, |i, j| u[(i, n - 1 - j)] / mu[j].sqrt());
+    solve_upper_triangular_in_place(l.transpose(), low.as_mut(), par);
+    let mut values: Vec<f64> = mu.iter().map(|&v| 1.0 / v).collect();
+    if good == count {
+        return Ok((values, low));
+    }
+    let (high_values, high) = standard_form(k, llt_m.L(), count, par)?;
+    values.extend_from_slice(&high_values[good..]);
+    let vectors = Mat::from_fn(
+        n,
+        count,
+        |i, j| {
+            if j < good { low[(i, j)] } else { high[(i, j)] }
+        },
+    );
     Ok((values, vectors))
 }
 
-/// The standard form with M = L Lᵀ: A = L⁻¹ K L⁻ᵀ, A y = λ y, φ = L⁻ᵀ y (for an indefinite K).
+/// The standard form with M = L Lᵀ: A = L⁻¹ K L⁻ᵀ, A y = λ y, φ = L⁻ᵀ y (for a singular or
+/// indefinite K, and the highest pairs of a nearly complete set).
 fn standard_form(
     k: MatRef<'_, f64>,
     l: MatRef<'_, f64>,
@@ -178,6 +202,26 @@ mod tests {
         let root = 10.0f64.sqrt();
         assert_relative_eq!(values[0], (1.0 - root) / 2.0, max_relative = 1e-12);
         assert_relative_eq!(values[1], (1.0 + root) / 2.0, max_relative = 1e-12);
+    }
+
+    #[test]
+    fn a_complete_set_of_a_widely_spread_pencil_is_exact_at_both_ends() {
+        // μ = 1e3, 1, 1e-14: the last is below B's round-off (3 ε 1e3), so it comes from the
+        // standard form; the first from the inverse form.
+        let k = Mat::from_fn(3, 3, |i, j| if i == j { [1e-3, 1.0, 1e14][i] } else { 0.0 });
+        let m = Mat::<f64>::identity(3, 3);
+        let (values, vectors) =
+            generalized_symmetric_eigen(k.as_ref(), m.as_ref(), 3, Par::Seq).unwrap();
+        for (v, exact) in values.iter().zip([1e-3, 1.0, 1e14]) {
+            assert_relative_eq!(*v, exact, max_relative = 1e-12);
+        }
+        let gram = vectors.transpose() * &m * &vectors;
+        for i in 0..3 {
+            for j in 0..3 {
+                let id = if i == j { 1.0 } else { 0.0 };
+                assert_relative_eq!(gram[(i, j)], id, epsilon = 1e-12);
+            }
+        }
     }
 
     #[test]

@@ -83,8 +83,8 @@ pub use steady_basis::{
 /// (`[mesh.basis] steady_shapes = true`, the steady drilling state's shapes in the basis, is new
 /// input, off by default: a file without it gives the numbers of revision 12 bit for bit.)
 /// 13: the dense generalized eigen-solve of the basis (family blocks up to 800 DOFs, the
-/// Rayleigh–Ritz steps) is done in inverse form, K − σM = L Lᵀ and L⁻¹ M L⁻ᵀ, instead of the
-/// standard form L_M⁻¹ K L_M⁻ᵀ, whose round-off is relative to the mesh's highest eigenvalue: on
+/// Rayleigh–Ritz steps) is done in inverse form, K = L Lᵀ and L⁻¹ M L⁻ᵀ (the standard form when
+/// K does not factor), instead of the standard form L_M⁻¹ K L_M⁻ᵀ, whose round-off is relative to the mesh's highest eigenvalue: on
 /// fine BHA meshes it put the mHz bending modes of a long span 0.2 % off or at 0 Hz, the axial
 /// modes 1 % off, and with them the static corrections (a 488-element lateral: their Rayleigh
 /// frequencies 425 and 520 Hz against 191 and 204 Hz) and the steady state's growth rate (1.28

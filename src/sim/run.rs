@@ -566,7 +566,8 @@ pub const SOFT_STRING_FACTOR: f64 = 4.0;
 /// Whether the pre-loaded state observed as `obs` (at rest relative to the rigid motion, every
 /// effect on) matches the soft-string torque and drag of the string ([`crate::model::SoftString`]):
 /// its top torque and top force each within 5 % of the estimate (and a round-off floor of 1e-9
-/// of the string's weight on the wall, and of its moment at the hole's radius), or with a friction part (the
+/// of the string's weight on the wall, the WOB or the TOB over the hole's radius, whichever is
+/// largest, and of its moment at the hole's radius), or with a friction part (the
 /// top load less the bit's and the damping's) within [`SOFT_STRING_FACTOR`] of the estimate's
 /// either way; and the bit's elastic displacement and twist within that factor of the
 /// estimate's (plus a gap and 0.1 rad, for strings whose estimate is near zero).
@@ -580,9 +581,11 @@ pub fn check_against_soft_string(
     let (fa, ft) = ss.friction_part(string.length);
     let k = SOFT_STRING_FACTOR;
     // A round-off floor for an estimate of 0 (off bottom without an axial slip: a top force of
-    // −3e-14 N is 0): 1e-9 of the string's weight on the wall, and of its moment at the hole's
-    // radius.
-    let weight = ss.normal_per_length.abs() * string.length;
+    // −3e-14 N is 0): 1e-9 of the largest of the string's weight on the wall, the WOB and the
+    // TOB over the hole's radius, and of its moment at the hole's radius.
+    let weight = (ss.normal_per_length.abs() * string.length)
+        .max(ss.wob.abs())
+        .max(ss.tob.abs() / string.borehole_radius);
     let load = |state: f64, estimate: f64, friction: f64, floor: f64| {
         let part = state - (estimate - friction);
         (state - estimate).abs() <= 0.05 * estimate.abs() + floor
