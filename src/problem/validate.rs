@@ -648,6 +648,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     let mut bit_section = m.bit.clone();
     let inertia = bit_section.parameters.remove("inertia");
     let bit = chosen_law(c, "model.bit", &bit_section, BIT_LAWS, &["law", "inertia"])?;
+    bit_in_its_hole(c, bit.radius(), borehole_radius);
     let bit_inertia = c.key_value("model.bit.inertia", inertia.as_ref())?;
     Ok(Drillstring {
         bit_inertia,
@@ -667,6 +668,46 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         // Set from `[operating_point]` by `problem`.
         top: crate::model::TopDrive::Feed,
     })
+}
+
+/// The largest hole a bit of radius a is taken to drill, as a multiple of a: a reamer above the
+/// bit or a washout widens the hole, by up to about a third of a for common reamer sizes (an
+/// 8½ in bit under a 9⅞ or 10⅝ in reamer: 1.16, 1.25); twice a is a diameter typed as a radius.
+pub const MAX_HOLE_OVER_BIT: f64 = 1.5;
+
+/// A bit law with a size (`[model.bit] radius`) must drill the hole it is in: its radius at most
+/// the hole's, and the hole at most [`MAX_HOLE_OVER_BIT`] times the bit's (each recorded under
+/// its key, in mm and in).
+fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64) {
+    let Some(a) = bit_radius else { return };
+    if !(a.is_finite() && borehole_radius.is_finite()) {
+        return;
+    }
+    let sizes = format!(
+        "a bit {} mm ({} in) across in a hole {} mm ({} in) across",
+        crate::units::short(2e3 * a),
+        crate::units::short(2.0 * a / 0.0254),
+        crate::units::short(2e3 * borehole_radius),
+        crate::units::short(2.0 * borehole_radius / 0.0254)
+    );
+    if a > borehole_radius * (1.0 + 1e-9) {
+        c.record(
+            "model.bit.radius",
+            format!(
+                "must be at most model.borehole.radius: the bit drills the hole it is in, got \
+                 {sizes} (a radius is half the bit size)"
+            ),
+        );
+    } else if borehole_radius > MAX_HOLE_OVER_BIT * a {
+        c.record(
+            "model.borehole.radius",
+            format!(
+                "must be at most {MAX_HOLE_OVER_BIT} times model.bit.radius (a hole widened by a \
+                 reamer or a washout), got {sizes}: a radius is half the hole size (8½ in hole: \
+                 radius = \"4.25 in\")"
+            ),
+        );
+    }
 }
 
 /// `[model.wall] stiffness_per` (`"length"`, the default, or `"node"`, the paper's reading; see

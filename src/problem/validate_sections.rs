@@ -166,7 +166,7 @@ fn section(
         c.record(
             &outer_key,
             format!(
-                "the section must fit in the hole {of}: outer diameter {} mm, hole diameter {} mm (a stabiliser nearly fills it)",
+                "the section must fit in the hole {of}: outer diameter {} mm, hole diameter {} mm (a stabiliser nearly fills it: give a full-gauge one 1/16 in under the hole size, 8 7/16 in in an 8 1/2 in hole; the model needs a gap)",
                 short(2e3 * outer_radius),
                 short(2e3 * borehole_radius)
             ),

@@ -228,6 +228,26 @@ pub struct VerifyRun {
     /// its mesh ([`steady_loads`]), for the reduced base run whose mesh is small enough.
     #[serde(skip)]
     pub steady_loads: Option<[SteadyLoads; 2]>,
+    /// Why the base run has no `steady_loads` when the reference was asked for.
+    #[serde(skip)]
+    pub steady_loads_missing: Option<SteadyLoadsMissing>,
+}
+
+/// Why `verify` has no finite-element steady loads to set beside the basis' (outcome as data:
+/// the CLI says it instead of leaving the line out; `steady_loads_missing` in the JSON).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "reason", rename_all = "snake_case")]
+pub enum SteadyLoadsMissing {
+    /// The mesh has more free DOFs than the finite-element reference is built for
+    /// ([`crate::sim::MAX_UNKNOWNS`]).
+    MeshTooLarge { unknowns: usize, limit: usize },
+    /// The finite-element model could not be assembled.
+    NotBuilt { error: String },
+    /// The basis' own 10 ms run from the pre-loaded start failed.
+    Basis { error: String },
+    /// The finite-element model's 10 ms run from its pre-loaded start failed (most often its
+    /// start did not converge on this mesh).
+    FiniteElement { error: String },
 }
 
 /// The loads of the steady drilling state: the first [`STEADY_LOADS_WINDOW_S`] of a run from
@@ -273,7 +293,7 @@ pub fn steady_loads(
     string: &crate::model::Drillstring,
     op: OperatingPoint,
     time_step: f64,
-) -> Option<SteadyLoads> {
+) -> Result<SteadyLoads, String> {
     let out = simulate(
         model,
         op,
@@ -282,11 +302,11 @@ pub fn steady_loads(
         InitialState::Preloaded,
         |_| {},
     );
-    if out.error.is_some() {
-        return None;
+    if let Some(e) = &out.error {
+        return Err(e.to_string());
     }
-    let m = metrics::of_run(&out, string, op, 0.0, None).ok()?;
-    Some(SteadyLoads {
+    let m = metrics::of_run(&out, string, op, 0.0, None).map_err(|e| e.to_string())?;
+    Ok(SteadyLoads {
         top_torque_nm: m.mean_top_torque_nm,
         top_force_n: m.mean_top_force_n,
         peak_wall_force_n: m.peak_wall_force_n,
@@ -351,6 +371,8 @@ pub struct VerifyReport {
     /// The steady drilling state's loads of the base model and of the finite-element model on
     /// the base mesh, where affordable ([`steady_loads`]).
     pub steady_loads: Option<[SteadyLoads; 2]>,
+    /// Why `steady_loads` is missing when `verify` asked for it.
+    pub steady_loads_missing: Option<SteadyLoadsMissing>,
     pub runs: Vec<VerifyRun>,
 }
 
@@ -553,6 +575,7 @@ pub fn verify_with(
         steady_state: base_run.steady_state,
         steady_state_unreduced: base_run.steady_state_unreduced,
         steady_loads: base_run.steady_loads,
+        steady_loads_missing: base_run.steady_loads_missing.clone(),
         steady_state_unreduced_refined_mesh: results
             .iter()
             .find(|(r, _)| r.name == Refinement::Mesh.name())
@@ -705,6 +728,28 @@ fn run_variant(
                 source,
             }
         })?;
+    // The steady loads of the basis beside the finite-element model's on the same mesh, or why
+    // there are none (the base run of `verify`, not `solve`'s check).
+    let reference = (settings.stability_reference && v.name == "base" && !v.unreduced).then(|| {
+        let unknowns = 6 * v.elements;
+        if unknowns > crate::sim::MAX_UNKNOWNS {
+            return Err(SteadyLoadsMissing::MeshTooLarge {
+                unknowns,
+                limit: crate::sim::MAX_UNKNOWNS,
+            });
+        }
+        let step = problem.simulation.time_step;
+        let fe = ReducedModel::unreduced(string, v.elements).map_err(|e| {
+            SteadyLoadsMissing::NotBuilt {
+                error: e.to_string(),
+            }
+        })?;
+        let basis = steady_loads(&model, string, op, step)
+            .map_err(|error| SteadyLoadsMissing::Basis { error })?;
+        let fe = steady_loads(&fe, string, op, step)
+            .map_err(|error| SteadyLoadsMissing::FiniteElement { error })?;
+        Ok([basis, fe])
+    });
     Ok((
         VerifyRun {
             name: v.name,
@@ -729,23 +774,8 @@ fn run_variant(
             } else {
                 None
             },
-            steady_loads: if settings.stability_reference
-                && v.name == "base"
-                && !v.unreduced
-                && 6 * v.elements <= crate::sim::MAX_UNKNOWNS
-            {
-                let step = problem.simulation.time_step;
-                ReducedModel::unreduced(string, v.elements)
-                    .ok()
-                    .and_then(|fe| {
-                        Some([
-                            steady_loads(&model, string, op, step)?,
-                            steady_loads(&fe, string, op, step)?,
-                        ])
-                    })
-            } else {
-                None
-            },
+            steady_loads: reference.as_ref().and_then(|r| r.as_ref().ok().copied()),
+            steady_loads_missing: reference.and_then(Result::err),
         },
         metrics,
     ))

@@ -189,3 +189,35 @@ fn a_string_or_a_pipe_too_small_to_mesh_is_refused_under_its_key() {
         &["[0.001, 1] m", "1e-300"],
     );
 }
+
+/// A bit law with a size must drill the hole it is in (helper-33 typed an 8½ in bit's size as
+/// its radius, and the hole's, and both ran): a bit wider than the hole, and a hole more than 1.5
+/// times the bit (a diameter typed as a radius), are refused naming the key and both sizes.
+#[test]
+fn a_bit_and_its_hole_must_match() {
+    let detournay = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/seed_detournay.toml"
+    ))
+    .unwrap();
+    let bit = "radius = \"70 mm\"                # a: the bit drills the 70 mm-radius hole";
+    assert!(detournay.contains(bit));
+    let text = detournay.replace(bit, "radius = \"140 mm\"");
+    one_refusal(
+        &text,
+        "model.bit.radius",
+        &[
+            "must be at most model.borehole.radius",
+            "a bit 280 mm (11.0236 in) across in a hole 140 mm (5.5118 in) across",
+        ],
+    );
+    let text = detournay.replace(bit, "radius = \"45 mm\"");
+    one_refusal(
+        &text,
+        "model.borehole.radius",
+        &["must be at most 1.5 times model.bit.radius", "a bit 90 mm"],
+    );
+    // 1.5 times is allowed (a reamer's hole).
+    let text = detournay.replace(bit, "radius = \"46.67 mm\"");
+    Problem::from_toml(&text, Path::new("p.toml")).expect("a hole 1.5 times the bit is allowed");
+}

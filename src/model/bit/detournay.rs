@@ -165,6 +165,10 @@ impl Detournay {
 }
 
 impl BitRockLaw for Detournay {
+    fn radius(&self) -> Option<f64> {
+        Some(self.radius)
+    }
+
     fn load(&self, vel: f64, spin: f64) -> BitLoad {
         if vel <= 0.0 {
             return BitLoad::default();

@@ -64,6 +64,13 @@ pub trait BitRockLaw: Law + CloneBitRockLaw {
         None
     }
 
+    /// The bit's radius a, m, for a law that has one (Detournay's, the depth-of-cut law);
+    /// `None` (the default) for a law without a size (the paper's exponential law). Checked
+    /// against the hole's radius when the file is read.
+    fn radius(&self) -> Option<f64> {
+        None
+    }
+
     /// Force and torque on the string when the rock surface gives a depth of cut `depth` per
     /// revolution (m; ≤ 0: off bottom) at bit axial velocity `vel` (m/s) and spin `spin` (rad/s),
     /// with the derivatives in `depth` in [`BitLoad::dforce_ddepth`] and
@@ -113,6 +120,11 @@ impl BitRock {
     /// See [`BitRockLaw::blades`].
     pub fn blades(&self) -> Option<u32> {
         self.law().blades()
+    }
+
+    /// See [`BitRockLaw::radius`].
+    pub fn radius(&self) -> Option<f64> {
+        self.law().radius()
     }
 }
 
