@@ -705,7 +705,7 @@ fn print_summary(
         _ => format!("{} s simulated", s.duration_s),
     };
     println!(
-        "{}: Ω = {:.2} rpm, {}, {done} in {:.1} s ({} steps, {} rejected, min dt {:.2e} s)",
+        "{}: Ω = {:.2} rpm, {}, {done} in {:.1} s ({} steps, {} rejected{})",
         s.record.problem,
         s.operating_point.omega_rpm,
         match s.operating_point.set_point {
@@ -717,7 +717,12 @@ fn print_summary(
         st.wall_time_s,
         st.steps,
         st.rejected_steps,
-        st.min_dt
+        // No step taken (a start that failed): no smallest step to give.
+        if st.min_dt.is_finite() {
+            format!(", min dt {:.2e} s", st.min_dt)
+        } else {
+            String::new()
+        }
     );
     println!(
         "  {} start, {} elements, {}",

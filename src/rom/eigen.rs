@@ -73,18 +73,7 @@ pub fn generalized_symmetric_eigen(
         return standard_form(k, llt_m.L(), count, par);
     };
     let l = llt_k.L();
-    // B = L⁻¹ M L⁻ᵀ by two triangular solves (M symmetric).
-    let mut x = m.to_owned();
-    solve_lower_triangular_in_place(l, x.as_mut(), par);
-    let mut b = x.transpose().to_owned();
-    solve_lower_triangular_in_place(l, b.as_mut(), par);
-    let b = Mat::from_fn(n, n, |i, j| 0.5 * (b[(i, j)] + b[(j, i)]));
-    let evd = b
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|_| EigenError::NoConvergence {
-            converged: 0,
-            asked: count,
-        })?;
+    let evd = congruent_eigen(l, m, count, par)?;
     // μ ascending: the largest `count`, taken from the top, are the lowest λ in ascending order.
     let s = evd.S().column_vector();
     let mu_max = s[n - 1];
@@ -116,6 +105,28 @@ pub fn generalized_symmetric_eigen(
     Ok((values, vectors))
 }
 
+/// The eigendecomposition (eigenvalues ascending) of L⁻¹ A L⁻ᵀ for a lower-triangular L and a
+/// symmetric A: X = L⁻¹ A, then L⁻¹ Xᵀ by two triangular solves, symmetrised against round-off
+/// before faer's self-adjoint solver. `count` is what the caller asked for (its error's).
+fn congruent_eigen(
+    l: MatRef<'_, f64>,
+    a: MatRef<'_, f64>,
+    count: usize,
+    par: Par,
+) -> Result<faer::linalg::solvers::SelfAdjointEigen<f64>, EigenError> {
+    let n = a.nrows();
+    let mut x = a.to_owned();
+    solve_lower_triangular_in_place(l, x.as_mut(), par);
+    let mut c = x.transpose().to_owned();
+    solve_lower_triangular_in_place(l, c.as_mut(), par);
+    let c = Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]));
+    c.self_adjoint_eigen(Side::Lower)
+        .map_err(|_| EigenError::NoConvergence {
+            converged: 0,
+            asked: count,
+        })
+}
+
 /// The standard form with M = L Lᵀ: A = L⁻¹ K L⁻ᵀ, A y = λ y, φ = L⁻ᵀ y (for a singular or
 /// indefinite K, and the highest pairs of a nearly complete set).
 fn standard_form(
@@ -124,20 +135,7 @@ fn standard_form(
     count: usize,
     par: Par,
 ) -> Result<(Vec<f64>, Mat<f64>), EigenError> {
-    let n = k.nrows();
-    // X = L⁻¹ K, then A = L⁻¹ Xᵀ = L⁻¹ K L⁻ᵀ (K symmetric).
-    let mut x = k.to_owned();
-    solve_lower_triangular_in_place(l, x.as_mut(), par);
-    let mut a = x.transpose().to_owned();
-    solve_lower_triangular_in_place(l, a.as_mut(), par);
-    // Symmetrise away round-off before the self-adjoint solve.
-    let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-    let evd = a
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|_| EigenError::NoConvergence {
-            converged: 0,
-            asked: count,
-        })?;
+    let evd = congruent_eigen(l, k, count, par)?;
     let s = evd.S().column_vector();
     let values: Vec<f64> = (0..count).map(|i| s[i]).collect();
     let mut vectors = evd.U().subcols(0, count).to_owned();

@@ -10,8 +10,13 @@ use std::f64::consts::PI;
 use std::process::Command;
 
 fn modes_json(count: usize) -> Value {
+    modes_json_of(SEED_PAPER, count)
+}
+
+/// `drillopt modes FILE --json --count N`, which must succeed.
+fn modes_json_of(file: &str, count: usize) -> Value {
     let out = Command::new(env!("CARGO_BIN_EXE_drillopt"))
-        .args(["modes", SEED_PAPER, "--json", "--count", &count.to_string()])
+        .args(["modes", file, "--json", "--count", &count.to_string()])
         .output()
         .expect("drillopt runs");
     assert!(
@@ -226,16 +231,7 @@ elements = 250
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("fine_bha_mesh.toml");
     std::fs::write(&path, file).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_drillopt"))
-        .args(["modes", path.to_str().unwrap(), "--json", "--count", "120"])
-        .output()
-        .expect("drillopt runs");
-    assert!(
-        out.status.success(),
-        "drillopt modes failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+    let json = modes_json_of(path.to_str().unwrap(), 120);
     let area = PI / 4.0 * (outer * outer - inner * inner);
     let ei = e * PI / 64.0 * (outer.powi(4) - inner.powi(4));
     for plane in ["bending_y", "bending_z"] {
