@@ -179,7 +179,9 @@ pub const BOREHOLE_RADIUS: ParameterSpec = ParameterSpec::new(
     Range::closed(1e-3, 2.0, "a hole 2 mm to 4 m across"),
     None,
     0.1,
-    "borehole radius R_bh (greater than the pipe's largest outer radius)",
+    "borehole radius R_bh (greater than the pipe's largest outer radius; or `diameter`, the hole \
+     size 2 R_bh, as drillers give it; a bit law with a radius must fit it, the hole at most 1.5 \
+     times the bit)",
 );
 
 /// The string's parameters a study may declare uncertain.

@@ -388,7 +388,10 @@ pub static KEYS: [Key; 37] = [
     }),
     key(FLUID_DENSITY, MASS, |p| p.model.fluid_density),
     key(ANNULUS_DENSITY, MASS, |p| p.model.annulus_density),
-    key(BOREHOLE_RADIUS, STATIC, |p| p.model.borehole_radius),
+    Key {
+        omitted: Omitted::Else("required, unless diameter gives it"),
+        ..key(BOREHOLE_RADIUS, STATIC, |p| p.model.borehole_radius)
+    },
     // The wall law's own parameters are in its table; how its friction acts is the wall's.
     plain(
         ParameterSpec::new(

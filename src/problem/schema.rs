@@ -137,7 +137,9 @@ pub struct FluidSection {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoreholeSection {
-    pub radius: RawQuantity,
+    /// The hole's radius; or its `diameter` (the bit size, as drillers give it), not both.
+    pub radius: Option<RawQuantity>,
+    pub diameter: Option<RawQuantity>,
 }
 
 /// A table that names a law and gives its parameters (`[model.wall]`, `[model.bit]`), checked

@@ -556,7 +556,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         "model.fluid.annulus_density",
         m.fluid.annulus_density.as_ref(),
     )?;
-    let borehole_radius = c.positive("model.borehole.radius", &m.borehole.radius, Length)?;
+    let borehole_radius = borehole_radius(c, &m.borehole)?;
     let sections =
         super::validate_sections::sections(c, &m.section, &pipe, length, borehole_radius);
     // Within the rounding the check allows, the string is the sum of its sections (the length
@@ -668,6 +668,41 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         // Set from `[operating_point]` by `problem`.
         top: crate::model::TopDrive::Feed,
     })
+}
+
+/// `[model.borehole]`: the hole's `radius`, or its `diameter` (the bit size a driller gives,
+/// "8½ in"), halved and checked against the radius' range; exactly one of the two.
+fn borehole_radius(c: &Checker, b: &BoreholeSection) -> Result<f64, ProblemError> {
+    let key = "model.borehole.radius";
+    match (&b.radius, &b.diameter) {
+        (Some(r), None) => c.positive(key, r, Dimension::Length),
+        (None, Some(d)) => {
+            let dkey = "model.borehole.diameter";
+            let v = c.value_as(dkey, "", d, Dimension::Length);
+            let r = 0.5 * v;
+            Ok(match super::keys::range_of(key) {
+                Some(range) if !r.is_nan() && !range.contains(r) => c.record(
+                    dkey,
+                    format!(
+                        "must be twice a radius {}, got {} m",
+                        range.describe_in("m", 1.0),
+                        crate::units::show(v)
+                    ),
+                ),
+                _ => r,
+            })
+        }
+        (Some(_), Some(_)) => Ok(c.record(
+            "model.borehole.diameter",
+            "give radius or diameter, not both".to_string(),
+        )),
+        (None, None) => Ok(c.record(
+            key,
+            "is required: the hole's size as radius or diameter (an 8½ in hole: diameter = \
+             \"8.5 in\")"
+                .to_string(),
+        )),
+    }
 }
 
 /// The largest hole a bit of radius a is taken to drill, as a multiple of a: a reamer above the

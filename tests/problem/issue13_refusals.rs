@@ -221,3 +221,45 @@ fn a_bit_and_its_hole_must_match() {
     let text = detournay.replace(bit, "radius = \"46.67 mm\"");
     Problem::from_toml(&text, Path::new("p.toml")).expect("a hole 1.5 times the bit is allowed");
 }
+
+/// `[model.borehole] diameter`, the hole size as drillers give it (helper-33 typed "8.5 in" as
+/// the radius): the same problem as half of it given as the radius; both, neither, or a diameter
+/// whose half leaves the radius' range refused naming the key.
+#[test]
+fn the_hole_can_be_given_by_its_diameter() {
+    let text = base();
+    let hole = "[model.borehole]\nradius = \"70 mm\"";
+    assert!(text.contains(hole), "{text}");
+    let by_radius = Problem::from_toml(&text, Path::new("p.toml")).unwrap();
+    let by_diameter = Problem::from_toml(
+        &text.replace(hole, "[model.borehole]\ndiameter = \"140 mm\""),
+        Path::new("p.toml"),
+    )
+    .unwrap();
+    assert_eq!(
+        by_radius.model.borehole_radius.to_bits(),
+        by_diameter.model.borehole_radius.to_bits()
+    );
+    assert_eq!(
+        drillopt::study::model_hash(&by_radius),
+        drillopt::study::model_hash(&by_diameter)
+    );
+    one_refusal(
+        &text.replace(
+            hole,
+            "[model.borehole]\nradius = \"70 mm\"\ndiameter = \"140 mm\"",
+        ),
+        "model.borehole.diameter",
+        &["give radius or diameter, not both"],
+    );
+    one_refusal(
+        &text.replace(hole, "[model.borehole]"),
+        "model.borehole.radius",
+        &["is required", "diameter = \"8.5 in\""],
+    );
+    one_refusal(
+        &text.replace(hole, "[model.borehole]\ndiameter = \"5 m\""),
+        "model.borehole.diameter",
+        &["must be twice a radius in [0.001, 2] m", "got 5 m"],
+    );
+}
