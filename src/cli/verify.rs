@@ -278,6 +278,10 @@ fn print_table(
                 basis,
                 fe,
                 r.steady_state_unreduced_refined_mesh,
+                r.runs
+                    .iter()
+                    .find(|run| run.name == Refinement::Mesh.name())
+                    .map(|run| 6 * run.elements),
                 undamped_waves
             )
         );
@@ -380,6 +384,13 @@ fn eigenvalue_text(s: crate::sim::SteadyStability) -> String {
 /// steady state's loads.
 const STEADY_LOADS_TOLERANCE: f64 = 0.05;
 
+/// Whether the basis' steady load `b` is more than [`STEADY_LOADS_TOLERANCE`] from the
+/// finite-element model's `f` (a NaN is: nothing says it is close).
+fn misplaced(b: f64, f: f64) -> bool {
+    let change = (b - f) / f.abs().max(f64::MIN_POSITIVE);
+    change.is_nan() || change.abs() > STEADY_LOADS_TOLERANCE
+}
+
 /// What a converged verdict does not cover: the refinements judge the basis against richer
 /// bases, not against the finite-element model, so a basis that places the steady loads more
 /// than [`STEADY_LOADS_TOLERANCE`] from it, or a check that could not be made, is said in the
@@ -393,9 +404,7 @@ fn reference_caveat(
             .named()
             .into_iter()
             .zip(fe.named())
-            .filter(|((_, b), (_, f))| {
-                ((b - f) / f.abs().max(f64::MIN_POSITIVE)).abs() > STEADY_LOADS_TOLERANCE
-            })
+            .filter(|((_, b), (_, f))| misplaced(*b, *f))
             .map(|((key, _), _)| crate::report::MetricDisplay::of_in(key, UnitSystem::Metric).name)
             .collect();
         if !off.is_empty() {
@@ -438,7 +447,7 @@ fn steady_loads_reference(
             d.unit,
             100.0 * change
         ));
-        if change.abs() > STEADY_LOADS_TOLERANCE {
+        if misplaced(b, f) {
             off.push(d.name);
         }
     }
@@ -488,6 +497,7 @@ fn stability_reference(
     basis: crate::sim::SteadyStability,
     fe: crate::sim::SteadyStability,
     fe_refined: Option<crate::sim::SteadyStability>,
+    refined_unknowns: Option<usize>,
     undamped_waves: bool,
 ) -> String {
     let head = format!(
@@ -519,20 +529,22 @@ fn stability_reference(
         ),
         None => format!(
             "{head}: not the basis' mode; the finite-element model on twice the elements was not \
-             computed (above the {} unknowns of its eigen-solve), so the same-mesh mode may be \
-             the coarse mesh's (a wave a few elements long, above the basis' frequencies) or the \
-             basis may miss the mode that decides stability: `drillopt simulate --unreduced \
-             --duration 0.01` of a copy on a finer mesh tells{tail}",
-            crate::sim::MAX_UNKNOWNS
-        ),
-        _ => format!(
-            "{head}{}: the basis does NOT hold the mode that decides stability, or holds a \
-             spurious one: more vectors of the torsional and axial families{tail}",
-            if fe_refined.is_some() {
-                ", converged in the mesh"
-            } else {
-                ""
+             computed ({}), so the same-mesh mode may be the coarse mesh's (a wave a few \
+             elements long, above the basis' frequencies) or the basis may miss the mode that \
+             decides stability: `drillopt simulate --unreduced --duration 0.01` of a copy on a \
+             finer mesh tells{tail}",
+            match refined_unknowns {
+                Some(n) if n > crate::sim::MAX_UNKNOWNS => format!(
+                    "its {n} unknowns are above the {} of its eigen-solve",
+                    crate::sim::MAX_UNKNOWNS
+                ),
+                _ => "its steady state or its eigen-solve failed".to_string(),
             }
+        ),
+        Some(_) => format!(
+            "{head}, converged in the mesh: the basis does NOT hold the mode that decides \
+             stability, or holds a spurious one: more vectors of the torsional and axial \
+             families{tail}"
         ),
     }
 }
@@ -557,6 +569,7 @@ mod stability_reference_tests {
             at(0.012, 2.1),
             at(0.428, 200.5),
             Some(at(0.021, 13.3)),
+            None,
             false,
         );
         assert!(line.contains("the mesh does NOT resolve"), "{line}");
@@ -564,6 +577,7 @@ mod stability_reference_tests {
             at(0.012, 2.1),
             at(0.021, 13.3),
             Some(at(0.021, 13.3)),
+            None,
             false,
         );
         assert!(
@@ -574,14 +588,22 @@ mod stability_reference_tests {
             at(0.022, 13.4),
             at(0.021, 13.3),
             Some(at(0.0211, 13.3)),
+            None,
             false,
         );
         assert!(line.contains("the basis holds the mode"), "{line}");
         // lateral_200m (162 elements): the finite-element model's 183.6 Hz is a coarse-mesh mode,
         // and its doubled mesh is above the eigen-solve's size: neither is blamed.
-        let line = stability_reference(at(0.221, 49.5), at(1.436, 183.6), None, false);
+        let line = stability_reference(at(0.221, 49.5), at(1.436, 183.6), None, Some(1944), false);
         assert!(
-            line.contains("was not computed") && !line.contains("does NOT hold"),
+            line.contains("was not computed (its 1944 unknowns are above the 1300")
+                && !line.contains("does NOT hold"),
+            "{line}"
+        );
+        // A doubled mesh small enough whose own steady state failed: said so, not its size.
+        let line = stability_reference(at(0.221, 49.5), at(1.436, 183.6), None, Some(1248), false);
+        assert!(
+            line.contains("its steady state or its eigen-solve failed"),
             "{line}"
         );
         // Stable and within 10 %: the same; a sign change is not.
@@ -594,15 +616,16 @@ mod stability_reference_tests {
             at(-1.2e-5, 67.8),
             at(1.2e-5, 67.8),
             Some(at(-1.2e-3, 67.8)),
+            None,
             false,
         );
         assert!(line.contains("the basis holds the mode"), "{line}");
         assert!(eigenvalue_text(at(-0.017, 3.8)).contains("0.017 1/s decay"));
         // helper-33's own well without stiffness damping: the finite-element model grows at
         // 27.7 1/s at 768.9 Hz, the basis at 0.027 at 5.9 Hz: the remedy is named.
-        let line = stability_reference(at(0.027, 5.9), at(27.7, 768.9), None, true);
+        let line = stability_reference(at(0.027, 5.9), at(27.7, 768.9), None, Some(1812), true);
         assert!(line.contains("stiffness_damping = \"10 us\""), "{line}");
-        let line = stability_reference(at(0.027, 5.9), at(27.7, 768.9), None, false);
+        let line = stability_reference(at(0.027, 5.9), at(27.7, 768.9), None, Some(1812), false);
         assert!(!line.contains("stiffness_damping"), "{line}");
     }
 }

@@ -317,6 +317,27 @@ impl ParameterKey {
                 ));
             }
         }
+        // A sampled hole or bit must keep the bit in its hole, as a file must
+        // (`problem::validate`: the bit at most the hole, the hole at most 1.5 times the bit).
+        let (hole, bit) = match self.spec.key {
+            "model.borehole.radius" => (value, string.bit.radius()),
+            "model.bit.radius" => (string.borehole_radius, Some(value)),
+            _ => return Ok(()),
+        };
+        if let Some(bit) = bit {
+            if bit > hole * (1.0 + 1e-9) {
+                return Err(format!(
+                    "must keep the bit (radius {bit} m) within the hole (radius {hole} m)"
+                ));
+            }
+            if hole > super::bit::MAX_HOLE_OVER_BIT * bit {
+                return Err(format!(
+                    "must keep the hole (radius {hole} m) at most {} times the bit (radius \
+                     {bit} m)",
+                    super::bit::MAX_HOLE_OVER_BIT
+                ));
+            }
+        }
         Ok(())
     }
 }
@@ -332,6 +353,32 @@ mod tests {
         ))
         .unwrap()
         .model
+    }
+
+    #[test]
+    fn a_sampled_hole_or_bit_keeps_the_bit_in_its_hole() {
+        // seed_detournay: a 70 mm bit in a 70 mm hole (radii).
+        let s = crate::problem::Problem::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/problems/seed_detournay.toml"
+        ))
+        .unwrap()
+        .model;
+        let hole = ParameterKey::resolve("model.borehole.radius", &s).unwrap();
+        let bit = ParameterKey::resolve("model.bit.radius", &s).unwrap();
+        assert!(hole.admissible(&s, 0.075).is_ok());
+        assert!(hole.admissible(&s, 0.105).is_ok(), "1.5 times the bit");
+        let wide = hole.admissible(&s, 0.11).unwrap_err();
+        assert!(wide.contains("at most 1.5 times the bit"), "{wide}");
+        let tight = hole.admissible(&s, 0.069).unwrap_err();
+        assert!(tight.contains("within the hole"), "{tight}");
+        assert!(bit.admissible(&s, 0.065).is_ok());
+        assert!(
+            bit.admissible(&s, 0.071)
+                .unwrap_err()
+                .contains("within the hole")
+        );
+        assert!(bit.admissible(&s, 0.04).unwrap_err().contains("1.5 times"));
     }
 
     #[test]

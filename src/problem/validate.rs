@@ -556,7 +556,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
         "model.fluid.annulus_density",
         m.fluid.annulus_density.as_ref(),
     )?;
-    let borehole_radius = borehole_radius(c, &m.borehole)?;
+    let (borehole_radius, hole_key) = borehole_radius(c, &m.borehole)?;
     let sections =
         super::validate_sections::sections(c, &m.section, &pipe, length, borehole_radius);
     // Within the rounding the check allows, the string is the sum of its sections (the length
@@ -600,7 +600,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     // With sections, each section's fit in the hole is checked with the section.
     if sections.is_empty() {
         c.check(
-            "model.borehole.radius",
+            hole_key,
             borehole_radius,
             borehole_radius > pipe.outer_radius || pipe.outer_radius.is_nan(),
             &format!(
@@ -648,7 +648,7 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     let mut bit_section = m.bit.clone();
     let inertia = bit_section.parameters.remove("inertia");
     let bit = chosen_law(c, "model.bit", &bit_section, BIT_LAWS, &["law", "inertia"])?;
-    bit_in_its_hole(c, bit.radius(), borehole_radius);
+    bit_in_its_hole(c, bit.radius(), borehole_radius, hole_key);
     let bit_inertia = c.key_value("model.bit.inertia", inertia.as_ref())?;
     Ok(Drillstring {
         bit_inertia,
@@ -671,16 +671,17 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
 }
 
 /// `[model.borehole]`: the hole's `radius`, or its `diameter` (the bit size a driller gives,
-/// "8½ in"), halved and checked against the radius' range; exactly one of the two.
-fn borehole_radius(c: &Checker, b: &BoreholeSection) -> Result<f64, ProblemError> {
+/// "8½ in"), halved and checked against the radius' range; exactly one of the two. Returns the
+/// radius and the key the file gave it by, which the later checks of the hole name.
+fn borehole_radius(c: &Checker, b: &BoreholeSection) -> Result<(f64, &'static str), ProblemError> {
     let key = "model.borehole.radius";
+    let dkey = "model.borehole.diameter";
     match (&b.radius, &b.diameter) {
-        (Some(r), None) => c.positive(key, r, Dimension::Length),
+        (Some(r), None) => Ok((c.positive(key, r, Dimension::Length)?, key)),
         (None, Some(d)) => {
-            let dkey = "model.borehole.diameter";
             let v = c.value_as(dkey, "", d, Dimension::Length);
             let r = 0.5 * v;
-            Ok(match super::keys::range_of(key) {
+            let r = match super::keys::range_of(key) {
                 Some(range) if !r.is_nan() && !range.contains(r) => c.record(
                     dkey,
                     format!(
@@ -690,30 +691,31 @@ fn borehole_radius(c: &Checker, b: &BoreholeSection) -> Result<f64, ProblemError
                     ),
                 ),
                 _ => r,
-            })
+            };
+            Ok((r, dkey))
         }
-        (Some(_), Some(_)) => Ok(c.record(
-            "model.borehole.diameter",
-            "give radius or diameter, not both".to_string(),
+        (Some(_), Some(_)) => Ok((
+            c.record(dkey, "give radius or diameter, not both".to_string()),
+            dkey,
         )),
-        (None, None) => Ok(c.record(
+        // A key of the two refused as written (a wrong type) is not also called missing.
+        (None, None) if c.refused_under(key) || c.refused_under(dkey) => Ok((f64::NAN, key)),
+        (None, None) => Ok((
+            c.record(
+                key,
+                "is required: the hole's size as radius or diameter (an 8½ in hole: diameter = \
+                 \"8.5 in\")"
+                    .to_string(),
+            ),
             key,
-            "is required: the hole's size as radius or diameter (an 8½ in hole: diameter = \
-             \"8.5 in\")"
-                .to_string(),
         )),
     }
 }
 
-/// The largest hole a bit of radius a is taken to drill, as a multiple of a: a reamer above the
-/// bit or a washout widens the hole, by up to about a third of a for common reamer sizes (an
-/// 8½ in bit under a 9⅞ or 10⅝ in reamer: 1.16, 1.25); twice a is a diameter typed as a radius.
-pub const MAX_HOLE_OVER_BIT: f64 = 1.5;
-
 /// A bit law with a size (`[model.bit] radius`) must drill the hole it is in: its radius at most
-/// the hole's, and the hole at most [`MAX_HOLE_OVER_BIT`] times the bit's (each recorded under
+/// the hole's, and the hole at most [`crate::model::bit::MAX_HOLE_OVER_BIT`] times the bit's (each recorded under
 /// its key, in mm and in).
-fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64) {
+fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64, hole_key: &str) {
     let Some(a) = bit_radius else { return };
     if !(a.is_finite() && borehole_radius.is_finite()) {
         return;
@@ -729,17 +731,23 @@ fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64) {
         c.record(
             "model.bit.radius",
             format!(
-                "must be at most model.borehole.radius: the bit drills the hole it is in, got \
+                "must be at most the hole's radius: the bit drills the hole it is in, got \
                  {sizes} (a radius is half the bit size)"
             ),
         );
-    } else if borehole_radius > MAX_HOLE_OVER_BIT * a {
+    } else if borehole_radius > crate::model::bit::MAX_HOLE_OVER_BIT * a {
+        let advice = if hole_key.ends_with("diameter") {
+            "a bit's radius is half its size (an 8½ in bit: radius = \"4.25 in\")"
+        } else {
+            "a radius is half the hole size (an 8½ in hole: radius = \"4.25 in\", or diameter = \
+             \"8.5 in\")"
+        };
         c.record(
-            "model.borehole.radius",
+            hole_key,
             format!(
-                "must be at most {MAX_HOLE_OVER_BIT} times model.bit.radius (a hole widened by a \
-                 reamer or a washout), got {sizes}: a radius is half the hole size (8½ in hole: \
-                 radius = \"4.25 in\")"
+                "must be at most {} times model.bit.radius (a hole widened by a reamer or a \
+                 washout), got {sizes}: {advice}",
+                crate::model::bit::MAX_HOLE_OVER_BIT
             ),
         );
     }

@@ -284,7 +284,7 @@ impl SteadyLoads {
 pub const STEADY_LOADS_WINDOW_S: f64 = 0.01;
 
 /// The loads of the steady drilling state of `model` (of `string`) at `op` ([`SteadyLoads`]),
-/// with the nominal step `time_step` (s); `None` when the start or the run fails. The reduced
+/// with the nominal step `time_step` (s); the error's text when the start or the run fails. The reduced
 /// model's against the finite-element model's tell whether the basis places the string's
 /// contacts, and with them the torque and the wall forces, where the mesh does: the basis
 /// refinement cannot tell when the refined basis misses them as well.

@@ -207,7 +207,7 @@ fn a_bit_and_its_hole_must_match() {
         &text,
         "model.bit.radius",
         &[
-            "must be at most model.borehole.radius",
+            "must be at most the hole's radius",
             "a bit 280 mm (11.0236 in) across in a hole 140 mm (5.5118 in) across",
         ],
     );
@@ -261,5 +261,15 @@ fn the_hole_can_be_given_by_its_diameter() {
         &text.replace(hole, "[model.borehole]\ndiameter = \"5 m\""),
         "model.borehole.diameter",
         &["must be twice a radius in [0.001, 2] m", "got 5 m"],
+    );
+    // A diameter of the wrong type: one refusal, not also "radius is required".
+    let lines = refusals(&text.replace(hole, "[model.borehole]\ndiameter = true"));
+    assert_eq!(lines.len(), 1, "{lines:#?}");
+    assert!(lines[0].contains("model.borehole.diameter"), "{lines:#?}");
+    // The later checks of the hole name the key the file gave it by.
+    one_refusal(
+        &text.replace(hole, "[model.borehole]\ndiameter = \"100 mm\""),
+        "model.borehole.diameter",
+        &["the pipe must fit in the hole"],
     );
 }

@@ -125,13 +125,13 @@ law_with_fields!(
 );
 
 impl BitRockLaw for Rgd {
-    /// The quasi-static form: the depth of cut of steady drilling, the pitch of the helix the
-    /// blades cut, d = 2π u̇/max(|θ̇|, ω_r) (geometric, so that a run started on it is a steady
-    /// state of the delay law; ω_r only keeps it finite for a bit that does not turn).
     fn radius(&self) -> Option<f64> {
         Some(self.radius)
     }
 
+    /// The quasi-static form: the depth of cut of steady drilling, the pitch of the helix the
+    /// blades cut, d = 2π u̇/max(|θ̇|, ω_r) (geometric, so that a run started on it is a steady
+    /// state of the delay law; ω_r only keeps it finite for a bit that does not turn).
     fn load(&self, vel: f64, spin: f64) -> BitLoad {
         if vel <= 0.0 {
             return BitLoad::default();
