@@ -184,6 +184,12 @@ pub const BOREHOLE_RADIUS: ParameterSpec = ParameterSpec::new(
      times the bit)",
 );
 
+/// The largest hole a bit of radius a is taken to drill, as a multiple of a: a reamer above the
+/// bit or a washout widens the hole, by up to about a third of a for common reamer sizes (an
+/// 8½ in bit under a 9⅞ or 10⅝ in reamer: 1.16, 1.25); twice a is a diameter typed as a radius.
+/// Checked on the file (`problem::validate`) and on every sampled hole or bit radius.
+pub const MAX_HOLE_OVER_BIT: f64 = 1.5;
+
 /// The string's parameters a study may declare uncertain.
 pub static STRING_PARAMETERS: [StringParameter; 7] = [
     row(PIPE_DAMPING, Linear, |s| &mut s.damping),
@@ -330,11 +336,11 @@ impl ParameterKey {
                     "must keep the bit (radius {bit} m) within the hole (radius {hole} m)"
                 ));
             }
-            if hole > super::bit::MAX_HOLE_OVER_BIT * bit {
+            if hole > MAX_HOLE_OVER_BIT * bit {
                 return Err(format!(
                     "must keep the hole (radius {hole} m) at most {} times the bit (radius \
                      {bit} m)",
-                    super::bit::MAX_HOLE_OVER_BIT
+                    MAX_HOLE_OVER_BIT
                 ));
             }
         }

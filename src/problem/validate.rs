@@ -713,7 +713,7 @@ fn borehole_radius(c: &Checker, b: &BoreholeSection) -> Result<(f64, &'static st
 }
 
 /// A bit law with a size (`[model.bit] radius`) must drill the hole it is in: its radius at most
-/// the hole's, and the hole at most [`crate::model::bit::MAX_HOLE_OVER_BIT`] times the bit's (each recorded under
+/// the hole's, and the hole at most [`crate::model::parameters::MAX_HOLE_OVER_BIT`] times the bit's (each recorded under
 /// its key, in mm and in).
 fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64, hole_key: &str) {
     let Some(a) = bit_radius else { return };
@@ -735,7 +735,7 @@ fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64, h
                  {sizes} (a radius is half the bit size)"
             ),
         );
-    } else if borehole_radius > crate::model::bit::MAX_HOLE_OVER_BIT * a {
+    } else if borehole_radius > crate::model::parameters::MAX_HOLE_OVER_BIT * a {
         let advice = if hole_key.ends_with("diameter") {
             "a bit's radius is half its size (an 8½ in bit: radius = \"4.25 in\")"
         } else {
@@ -747,7 +747,7 @@ fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64, h
             format!(
                 "must be at most {} times model.bit.radius (a hole widened by a reamer or a \
                  washout), got {sizes}: {advice}",
-                crate::model::bit::MAX_HOLE_OVER_BIT
+                crate::model::parameters::MAX_HOLE_OVER_BIT
             ),
         );
     }

@@ -93,12 +93,6 @@ law_kind!(BitRockLaw, CloneBitRockLaw);
 /// A bit–rock law as the registry knows it.
 pub type BitLawEntry = LawEntry<dyn BitRockLaw>;
 
-/// The largest hole a bit of radius a is taken to drill, as a multiple of a: a reamer above the
-/// bit or a washout widens the hole, by up to about a third of a for common reamer sizes (an
-/// 8½ in bit under a 9⅞ or 10⅝ in reamer: 1.16, 1.25); twice a is a diameter typed as a radius.
-/// Checked on the file (`problem::validate`) and on every sampled hole or bit radius.
-pub const MAX_HOLE_OVER_BIT: f64 = 1.5;
-
 /// Every bit–rock law drillopt knows; the first is the default when a file names none.
 pub const BIT_LAWS: &[BitLawEntry] = &[exponential::ENTRY, detournay::ENTRY, rgd::ENTRY];
 
