@@ -648,7 +648,12 @@ fn drillstring(c: &Checker, m: &ModelSection) -> Result<Drillstring, ProblemErro
     let mut bit_section = m.bit.clone();
     let inertia = bit_section.parameters.remove("inertia");
     let bit = chosen_law(c, "model.bit", &bit_section, BIT_LAWS, &["law", "inertia"])?;
-    bit_in_its_hole(c, bit.radius(), borehole_radius, hole_key);
+    let bit_key = if bit_section.parameters.contains_key("diameter") {
+        "model.bit.diameter"
+    } else {
+        "model.bit.radius"
+    };
+    bit_in_its_hole(c, bit.radius(), borehole_radius, hole_key, bit_key);
     let bit_inertia = c.key_value("model.bit.inertia", inertia.as_ref())?;
     Ok(Drillstring {
         bit_inertia,
@@ -712,10 +717,17 @@ fn borehole_radius(c: &Checker, b: &BoreholeSection) -> Result<(f64, &'static st
     }
 }
 
-/// A bit law with a size (`[model.bit] radius`) must drill the hole it is in: its radius at most
-/// the hole's, and the hole at most [`crate::model::parameters::MAX_HOLE_OVER_BIT`] times the bit's (each recorded under
-/// its key, in mm and in).
-fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64, hole_key: &str) {
+/// A bit law with a size (`[model.bit] radius` or `diameter`) must drill the hole it is in: its
+/// radius at most the hole's, and the hole at most
+/// [`crate::model::parameters::MAX_HOLE_OVER_BIT`] times the bit's (each recorded under the key
+/// the file gave it by, `hole_key` and `bit_key`, in mm and in).
+fn bit_in_its_hole(
+    c: &Checker,
+    bit_radius: Option<f64>,
+    borehole_radius: f64,
+    hole_key: &str,
+    bit_key: &str,
+) {
     let Some(a) = bit_radius else { return };
     if !(a.is_finite() && borehole_radius.is_finite()) {
         return;
@@ -728,16 +740,25 @@ fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64, h
         crate::units::short(2.0 * borehole_radius / 0.0254)
     );
     if a > borehole_radius * (1.0 + 1e-9) {
+        let (size, advice) = if bit_key.ends_with("diameter") {
+            ("diameter", "")
+        } else {
+            ("radius", " (a radius is half the bit size)")
+        };
         c.record(
-            "model.bit.radius",
+            bit_key,
             format!(
-                "must be at most the hole's radius: the bit drills the hole it is in, got \
-                 {sizes} (a radius is half the bit size)"
+                "must be at most the hole's {size}: the bit drills the hole it is in, got \
+                 {sizes}{advice}"
             ),
         );
     } else if borehole_radius > crate::model::parameters::MAX_HOLE_OVER_BIT * a {
-        let advice = if hole_key.ends_with("diameter") {
-            "a bit's radius is half its size (an 8½ in bit: radius = \"4.25 in\")"
+        let advice = if bit_key.ends_with("diameter") {
+            "the hole's and the bit's sizes are their diameters (an 8½ in bit in its hole: \
+             diameter = \"8.5 in\" for both)"
+        } else if hole_key.ends_with("diameter") {
+            "a bit's radius is half its size (an 8½ in bit: radius = \"4.25 in\", or \
+             diameter = \"8.5 in\")"
         } else {
             "a radius is half the hole size (an 8½ in hole: radius = \"4.25 in\", or diameter = \
              \"8.5 in\")"
@@ -745,7 +766,7 @@ fn bit_in_its_hole(c: &Checker, bit_radius: Option<f64>, borehole_radius: f64, h
         c.record(
             hole_key,
             format!(
-                "must be at most {} times model.bit.radius (a hole widened by a reamer or a \
+                "must be at most {} times the bit's size (a hole widened by a reamer or a \
                  washout), got {sizes}: {advice}",
                 crate::model::parameters::MAX_HOLE_OVER_BIT
             ),
@@ -832,6 +853,8 @@ fn wall_friction(
 /// against its range. Unknown keys and missing required parameters are recorded, each with every
 /// key the table accepts named (`own`: the table's keys besides the law's parameters, such as
 /// `law` and the bit's `inertia`), and the rest is still checked; an unknown law ends the table.
+/// A law with a `radius` (a bit's) also takes it as `diameter` (the bit size a driller gives,
+/// "8½ in"), halved and checked against the radius' range; not both.
 fn chosen_law<L: ?Sized + Law>(
     c: &Checker,
     table: &str,
@@ -850,15 +873,22 @@ fn chosen_law<L: ?Sized + Law>(
         })?,
     };
     let names: Vec<&str> = entry.parameters.iter().map(|p| p.name()).collect();
+    let sized = names.contains(&"radius");
     for unknown in section.parameters.keys() {
-        if !names.contains(&unknown.as_str()) {
+        let accepted = names.contains(&unknown.as_str()) || (sized && unknown == "diameter");
+        if !accepted {
             c.record(
                 &format!("{table}.{unknown}"),
                 format!(
-                    "unknown field: [{table}] accepts {} and the parameters of law = {:?}: {}",
+                    "unknown field: [{table}] accepts {} and the parameters of law = {:?}: {}{}",
                     own.join(", "),
                     entry.name,
-                    names.join(", ")
+                    names.join(", "),
+                    if sized {
+                        " (or diameter for radius)"
+                    } else {
+                        ""
+                    }
                 ),
             );
         }
@@ -867,6 +897,9 @@ fn chosen_law<L: ?Sized + Law>(
         .parameters
         .iter()
         .map(|p| match (section.parameters.get(p.name()), p.default) {
+            _ if p.name() == "radius" && section.parameters.contains_key("diameter") => {
+                Ok(law_radius_from_diameter(c, table, section, p))
+            }
             (Some(raw), _) => c.spec_value(p, raw),
             (None, Some(default)) => Ok(default),
             (None, None) => Ok(c.record(
@@ -881,6 +914,36 @@ fn chosen_law<L: ?Sized + Law>(
         })
         .collect::<Result<Vec<f64>, _>>()?;
     Ok(Chosen::from_entry(entry, &values))
+}
+
+/// The `radius` parameter `spec` of a law table given as its `diameter` (present in `section`):
+/// half of it, within the radius' range (recorded under `{table}.diameter` otherwise, or when the
+/// table gives both).
+fn law_radius_from_diameter(
+    c: &Checker,
+    table: &str,
+    section: &LawSection,
+    spec: &crate::model::ParameterSpec,
+) -> f64 {
+    let dkey = format!("{table}.diameter");
+    if section.parameters.contains_key("radius") {
+        return c.record(&dkey, "give radius or diameter, not both".to_string());
+    }
+    let raw = &section.parameters["diameter"];
+    let v = c.value_as(&dkey, "", raw, spec.dimension);
+    let r = 0.5 * v;
+    if r.is_nan() || spec.range.contains(r) {
+        r
+    } else {
+        c.record(
+            &dkey,
+            format!(
+                "must be twice a radius {}, got {} m",
+                spec.range.describe(spec.dimension),
+                crate::units::show(v)
+            ),
+        )
+    }
 }
 
 fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {

@@ -215,7 +215,7 @@ fn a_bit_and_its_hole_must_match() {
     one_refusal(
         &text,
         "model.borehole.radius",
-        &["must be at most 1.5 times model.bit.radius", "a bit 90 mm"],
+        &["must be at most 1.5 times the bit's size", "a bit 90 mm"],
     );
     // 1.5 times is allowed (a reamer's hole).
     let text = detournay.replace(bit, "radius = \"46.67 mm\"");
@@ -271,5 +271,74 @@ fn the_hole_can_be_given_by_its_diameter() {
         &text.replace(hole, "[model.borehole]\ndiameter = \"100 mm\""),
         "model.borehole.diameter",
         &["the pipe must fit in the hole"],
+    );
+}
+
+/// `[model.bit] diameter`, the bit size as drillers give it ("8½ in PDC"), for a law with a
+/// radius: the same problem as half of it given as the radius; both, a half outside the radius'
+/// range, a bit wider than its hole, or a diameter for a law without a size refused naming the
+/// key the file used.
+#[test]
+fn a_bit_can_be_given_by_its_diameter() {
+    let detournay = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/seed_detournay.toml"
+    ))
+    .unwrap();
+    let bit = "radius = \"70 mm\"                # a: the bit drills the 70 mm-radius hole";
+    assert!(detournay.contains(bit));
+    let by_radius = Problem::from_toml(&detournay, Path::new("p.toml")).unwrap();
+    let by_diameter = Problem::from_toml(
+        &detournay.replace(bit, "diameter = \"140 mm\""),
+        Path::new("p.toml"),
+    )
+    .unwrap();
+    assert_eq!(
+        by_radius.model.bit.radius().map(f64::to_bits),
+        by_diameter.model.bit.radius().map(f64::to_bits)
+    );
+    assert_eq!(
+        drillopt::study::model_hash(&by_radius),
+        drillopt::study::model_hash(&by_diameter)
+    );
+    one_refusal(
+        &detournay.replace(bit, "radius = \"70 mm\"\ndiameter = \"140 mm\""),
+        "model.bit.diameter",
+        &["give radius or diameter, not both"],
+    );
+    one_refusal(
+        &detournay.replace(bit, "diameter = \"2 m\""),
+        "model.bit.diameter",
+        &["must be twice a radius in [0.005, 0.5] m", "got 2 m"],
+    );
+    one_refusal(
+        &detournay.replace(bit, "diameter = \"150 mm\""),
+        "model.bit.diameter",
+        &[
+            "must be at most the hole's diameter",
+            "a bit 150 mm (5.9055 in) across in a hole 140 mm (5.5118 in) across",
+        ],
+    );
+    // The hole more than 1.5 times a bit given by its diameter: the advice speaks of diameters.
+    one_refusal(
+        &detournay.replace(bit, "diameter = \"90 mm\""),
+        "model.borehole.radius",
+        &[
+            "must be at most 1.5 times the bit's size",
+            "diameter = \"8.5 in\" for both",
+        ],
+    );
+    // The paper's law has no size: a diameter there is an unknown key.
+    let seed = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/seed_mc2014.toml"
+    ))
+    .unwrap();
+    let law = "limit_force = \"250 kN\"";
+    assert!(seed.contains(law));
+    one_refusal(
+        &seed.replace(law, &format!("{law}\ndiameter = \"140 mm\"")),
+        "model.bit.diameter",
+        &["unknown field"],
     );
 }

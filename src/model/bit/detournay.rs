@@ -58,7 +58,7 @@ pub(super) const PARAMETERS: [ParameterSpec; 9] = [
         range: Range::closed(5e-3, 0.5, "a bit 1 cm to 1 m across"),
         default: None,
         example: 0.108,
-        doc: "bit radius a (0.108 m: an 8½ in bit)",
+        doc: "bit radius a (0.108 m: an 8½ in bit); or give `diameter`, the bit size (\"8.5 in\")",
     },
     ParameterSpec {
         key: "model.bit.specific_energy",
