@@ -667,10 +667,8 @@ pub fn entering(problem: &Problem, stage: Stage) -> Vec<(String, String)> {
             }
             continue;
         }
-        out.push((
-            r.spec.key.to_string(),
-            shown(r.spec.key, value(problem), r.spec.dimension),
-        ));
+        let (key, value) = as_given(problem, r.spec.key, value(problem));
+        out.push((key, shown(r.spec.key, value, r.spec.dimension)));
     }
     let (wall, bit) = laws_enter(stage);
     let laws: [(bool, &dyn Law); 2] = [
@@ -680,14 +678,38 @@ pub fn entering(problem: &Problem, stage: Stage) -> Vec<(String, String)> {
     for (enters, law) in laws {
         if enters {
             for (i, spec) in law.parameters().iter().enumerate() {
-                out.push((
-                    spec.key.to_string(),
-                    shown(spec.key, law.value(i), spec.dimension),
-                ));
+                let (key, value) = as_given(problem, spec.key, law.value(i));
+                out.push((key, shown(spec.key, value, spec.dimension)));
             }
         }
     }
     out
+}
+
+/// A radius the file gave by its diameter (`[model.borehole]`, `[model.bit]`: the size as drillers
+/// type it), named and valued as the file gave it; any other key as it is.
+fn as_given(problem: &Problem, key: &str, value: f64) -> (String, f64) {
+    match key.strip_suffix(".radius") {
+        Some(table @ ("model.borehole" | "model.bit")) if gives(problem, table, "diameter") => {
+            (format!("{table}.diameter"), 2.0 * value)
+        }
+        _ => (key.to_string(), value),
+    }
+}
+
+/// Whether the problem file's text gives `key` in its table `table` ("model.bit").
+fn gives(problem: &Problem, table: &str, key: &str) -> bool {
+    let Ok(doc) = problem.text.parse::<toml::Table>() else {
+        return false;
+    };
+    let mut t = &doc;
+    for part in table.split('.') {
+        match t.get(part).and_then(toml::Value::as_table) {
+            Some(inner) => t = inner,
+            None => return false,
+        }
+    }
+    t.contains_key(key)
 }
 
 /// "`model.length` = 35 m, `mesh.elements` = 105, …": the keys of [`entering`] with their values.
@@ -710,6 +732,41 @@ mod tests {
             Path::new("seed.toml"),
         )
         .unwrap()
+    }
+
+    /// A hole and a bit the file gave by their diameters are named so, with the diameters.
+    #[test]
+    fn a_size_given_as_a_diameter_is_named_as_given() {
+        let text = include_str!("../../problems/seed_detournay.toml")
+            .replace(
+                "[model.borehole]\nradius = \"70 mm\"",
+                "[model.borehole]\ndiameter = \"140 mm\"",
+            )
+            .replace(
+                "radius = \"70 mm\"                # a: the bit drills the 70 mm-radius hole",
+                "diameter = \"0.13 m\"",
+            );
+        let p = Problem::from_toml(&text, Path::new("d.toml")).unwrap();
+        let keys = describe_entering(&p, Start);
+        for (named, unnamed) in [
+            (
+                "`model.borehole.diameter` = 0.14 m",
+                "model.borehole.radius",
+            ),
+            ("`model.bit.diameter` = 0.13 m", "model.bit.radius"),
+        ] {
+            assert!(keys.contains(named), "{named} missing: {keys}");
+            assert!(!keys.contains(unnamed), "{unnamed} named: {keys}");
+        }
+        // Given by its radius, the radius.
+        let p = Problem::from_toml(
+            include_str!("../../problems/seed_detournay.toml"),
+            Path::new("r.toml"),
+        )
+        .unwrap();
+        let keys = describe_entering(&p, Start);
+        assert!(keys.contains("`model.bit.radius` = 0.07 m"), "{keys}");
+        assert!(keys.contains("`model.borehole.radius` = 0.07 m"), "{keys}");
     }
 
     #[test]
