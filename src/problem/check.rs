@@ -360,7 +360,7 @@ fn in_unit(v: f64, factor: f64) -> f64 {
 /// "4448221.615 N (written \"1000 klbf\")": a refused value `v` (SI) in the unit of size
 /// `factor` a message shows, and as the file wrote it when that was in another unit (the number
 /// shown is not the one written).
-fn got(v: f64, unit: &str, factor: f64, raw: &RawQuantity) -> String {
+pub(super) fn got(v: f64, unit: &str, factor: f64, raw: &RawQuantity) -> String {
     let number = show(in_unit(v, factor));
     let shown = if unit.is_empty() {
         number.clone()

@@ -685,17 +685,9 @@ fn borehole_radius(c: &Checker, b: &BoreholeSection) -> Result<(f64, &'static st
         (Some(r), None) => Ok((c.positive(key, r, Dimension::Length)?, key)),
         (None, Some(d)) => {
             let v = c.value_as(dkey, "", d, Dimension::Length);
-            let r = 0.5 * v;
             let r = match super::keys::range_of(key) {
-                Some(range) if !r.is_nan() && !range.contains(r) => c.record(
-                    dkey,
-                    format!(
-                        "must be twice a radius {}, got {} m",
-                        range.describe_in("m", 1.0),
-                        crate::units::show(v)
-                    ),
-                ),
-                _ => r,
+                Some(range) => half_of_diameter(c, dkey, v, d, range),
+                None => 0.5 * v,
             };
             Ok((r, dkey))
         }
@@ -766,9 +758,14 @@ fn bit_in_its_hole(
         c.record(
             hole_key,
             format!(
-                "must be at most {} times the bit's size (a hole widened by a reamer or a \
+                "must be at most {} times the bit's {} (a hole widened by a reamer or a \
                  washout), got {sizes}: {advice}",
-                crate::model::parameters::MAX_HOLE_OVER_BIT
+                crate::model::parameters::MAX_HOLE_OVER_BIT,
+                if hole_key.ends_with("diameter") {
+                    "diameter"
+                } else {
+                    "radius"
+                }
             ),
         );
     }
@@ -884,11 +881,7 @@ fn chosen_law<L: ?Sized + Law>(
                     own.join(", "),
                     entry.name,
                     names.join(", "),
-                    if sized {
-                        " (or diameter for radius)"
-                    } else {
-                        ""
-                    }
+                    size_hint(registry, sized, unknown)
                 ),
             );
         }
@@ -916,6 +909,29 @@ fn chosen_law<L: ?Sized + Law>(
     Ok(Chosen::from_entry(entry, &values))
 }
 
+/// The end of an unknown-key refusal of a law table: that `diameter` may stand for the law's
+/// `radius`, or, for a size given to a law without one, which laws of the registry have one.
+fn size_hint<L: ?Sized + Law>(registry: &[LawEntry<L>], sized: bool, unknown: &str) -> String {
+    if sized {
+        return " (or diameter for radius)".to_string();
+    }
+    if !matches!(unknown, "diameter" | "radius") {
+        return String::new();
+    }
+    let with_size: Vec<String> = (registry.iter())
+        .filter(|e| e.parameters.iter().any(|p| p.name() == "radius"))
+        .map(|e| format!("{:?}", e.name))
+        .collect();
+    if with_size.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; a size (radius or diameter) belongs to law = {}",
+            with_size.join(" or ")
+        )
+    }
+}
+
 /// The `radius` parameter `spec` of a law table given as its `diameter` (present in `section`):
 /// half of it, within the radius' range (recorded under `{table}.diameter` otherwise, or when the
 /// table gives both).
@@ -931,19 +947,36 @@ fn law_radius_from_diameter(
     }
     let raw = &section.parameters["diameter"];
     let v = c.value_as(&dkey, "", raw, spec.dimension);
+    half_of_diameter(c, &dkey, v, raw, spec.range)
+}
+
+/// The radius of the diameter `v` (m) read under `dkey` from `raw`, when it lies within twice
+/// the radius' `range`; refused under `dkey` otherwise, with the diameters' range and the value
+/// as written.
+fn half_of_diameter(
+    c: &Checker,
+    dkey: &str,
+    v: f64,
+    raw: &RawQuantity,
+    range: crate::units::Range,
+) -> f64 {
     let r = 0.5 * v;
-    if r.is_nan() || spec.range.contains(r) {
-        r
-    } else {
-        c.record(
-            &dkey,
-            format!(
-                "must be twice a radius {}, got {} m",
-                spec.range.describe(spec.dimension),
-                crate::units::show(v)
-            ),
-        )
+    if r.is_nan() || range.contains(r) {
+        return r;
     }
+    let diameters = crate::units::Range {
+        lo: 2.0 * range.lo,
+        hi: 2.0 * range.hi,
+        ..range
+    };
+    c.record(
+        dkey,
+        format!(
+            "must be {} as a diameter, twice the radius', got {}",
+            diameters.describe_in("m", 1.0),
+            super::check::got(v, "m", 1.0, raw)
+        ),
+    )
 }
 
 fn pipe(c: &Checker, p: &PipeSection) -> Result<Pipe, ProblemError> {

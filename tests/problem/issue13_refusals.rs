@@ -215,7 +215,7 @@ fn a_bit_and_its_hole_must_match() {
     one_refusal(
         &text,
         "model.borehole.radius",
-        &["must be at most 1.5 times the bit's size", "a bit 90 mm"],
+        &["must be at most 1.5 times the bit's radius", "a bit 90 mm"],
     );
     // 1.5 times is allowed (a reamer's hole).
     let text = detournay.replace(bit, "radius = \"46.67 mm\"");
@@ -260,7 +260,7 @@ fn the_hole_can_be_given_by_its_diameter() {
     one_refusal(
         &text.replace(hole, "[model.borehole]\ndiameter = \"5 m\""),
         "model.borehole.diameter",
-        &["must be twice a radius in [0.001, 2] m", "got 5 m"],
+        &["must be in [0.002, 4] m", "as a diameter, twice the radius'", "got 5 m"],
     );
     // A diameter of the wrong type: one refusal, not also "radius is required".
     let lines = refusals(&text.replace(hole, "[model.borehole]\ndiameter = true"));
@@ -309,8 +309,17 @@ fn a_bit_can_be_given_by_its_diameter() {
     one_refusal(
         &detournay.replace(bit, "diameter = \"2 m\""),
         "model.bit.diameter",
-        &["must be twice a radius in [0.005, 0.5] m", "got 2 m"],
+        &["must be in [0.01, 1] m", "as a diameter", "got 2 m"],
     );
+    // The half is checked, not the diameter: 9 mm is a diameter of 4.5 mm's radius, below 5 mm.
+    one_refusal(
+        &detournay.replace(bit, "diameter = \"9 mm\""),
+        "model.bit.diameter",
+        &["must be in [0.01, 1] m", "got 0.009 m (written \"9 mm\")"],
+    );
+    // A wrong type is refused once (not also "radius is required").
+    let lines = refusals(&detournay.replace(bit, "diameter = true"));
+    assert_eq!(lines.len(), 1, "{lines:#?}");
     one_refusal(
         &detournay.replace(bit, "diameter = \"150 mm\""),
         "model.bit.diameter",
@@ -324,7 +333,7 @@ fn a_bit_can_be_given_by_its_diameter() {
         &detournay.replace(bit, "diameter = \"90 mm\""),
         "model.borehole.radius",
         &[
-            "must be at most 1.5 times the bit's size",
+            "must be at most 1.5 times the bit's radius",
             "diameter = \"8.5 in\" for both",
         ],
     );
@@ -339,6 +348,9 @@ fn a_bit_can_be_given_by_its_diameter() {
     one_refusal(
         &seed.replace(law, &format!("{law}\ndiameter = \"140 mm\"")),
         "model.bit.diameter",
-        &["unknown field"],
+        &[
+            "unknown field",
+            "a size (radius or diameter) belongs to law = \"detournay\" or \"rgd\"",
+        ],
     );
 }
