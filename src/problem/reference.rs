@@ -98,7 +98,9 @@ pub fn markdown() -> String {
                 let omitted = match p.default {
                     Some(d) => shown(p.key, d, p.dimension),
                     // A law's size is also taken as its `diameter` (`validate::chosen_law`).
-                    None if p.name() == "radius" => "required, unless diameter gives it".to_string(),
+                    None if p.name() == "radius" => {
+                        "required, unless diameter gives it".to_string()
+                    }
                     None => "required".to_string(),
                 };
                 row(&mut out, p, &omitted);

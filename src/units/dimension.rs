@@ -214,17 +214,24 @@ impl Dimension {
     }
 
     /// Parse `"<number> <unit>"` (or a bare number, read as SI) into SI units.
+    /// A size may be written as the tables do, `"8 1/2 in"`, `"8½ in"` ([`super::fraction`]).
     pub fn parse(self, text: &str) -> Result<f64, UnitError> {
         let text = text.trim();
-        let split = text
-            .char_indices()
-            .find(|&(i, c)| !is_number_char(text, i, c))
-            .map_or(text.len(), |(i, _)| i);
-        let (number, unit) = text.split_at(split);
-        let value: f64 = number
-            .replace('_', "")
-            .parse()
-            .map_err(|_| UnitError::new(self, text, "does not start with a number"))?;
+        let (value, unit) = match super::fraction::leading_fraction(text) {
+            Some(read) => read,
+            None => {
+                let split = text
+                    .char_indices()
+                    .find(|&(i, c)| !is_number_char(text, i, c))
+                    .map_or(text.len(), |(i, _)| i);
+                let (number, unit) = text.split_at(split);
+                let value: f64 = number
+                    .replace('_', "")
+                    .parse()
+                    .map_err(|_| UnitError::new(self, text, "does not start with a number"))?;
+                (value, unit)
+            }
+        };
         let unit = unit.trim();
         // `-0` is 0 (no negative zero reaches a result: `--v0 -0m/h` wrote "v0_m_s": -0.0).
         if unit.is_empty() {

@@ -5,6 +5,7 @@
 //! problem files against them.
 
 mod dimension;
+mod fraction;
 mod range;
 mod system;
 

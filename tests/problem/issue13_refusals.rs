@@ -260,7 +260,11 @@ fn the_hole_can_be_given_by_its_diameter() {
     one_refusal(
         &text.replace(hole, "[model.borehole]\ndiameter = \"5 m\""),
         "model.borehole.diameter",
-        &["must be in [0.002, 4] m", "as a diameter, twice the radius'", "got 5 m"],
+        &[
+            "must be in [0.002, 4] m",
+            "as a diameter, twice the radius'",
+            "got 5 m",
+        ],
     );
     // A diameter of the wrong type: one refusal, not also "radius is required".
     let lines = refusals(&text.replace(hole, "[model.borehole]\ndiameter = true"));
@@ -352,5 +356,37 @@ fn a_bit_can_be_given_by_its_diameter() {
             "unknown field",
             "a size (radius or diameter) belongs to law = \"detournay\" or \"rgd\"",
         ],
+    );
+}
+
+/// Sizes as the tables write them (helper-35 typed the hole as "8 1/2 in" and was told of an
+/// unknown unit `1/2 in`): a mixed number or a vulgar fraction is the same model as its decimal;
+/// an improper "81/2 in" (a mistyped 8 1/2) is still refused.
+#[test]
+fn sizes_are_read_as_the_tables_write_them() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/problems/field/well_1km.toml"
+    ))
+    .unwrap();
+    let hole = "[model.borehole]\ndiameter = \"8.5 in\"";
+    assert!(text.contains(hole));
+    let decimal = Problem::from_toml(&text, Path::new("p.toml")).unwrap();
+    for written in ["8 1/2 in", "8-1/2 in", "8½ in"] {
+        let p = Problem::from_toml(
+            &text.replace(hole, &format!("[model.borehole]\ndiameter = \"{written}\"")),
+            Path::new("p.toml"),
+        )
+        .unwrap_or_else(|e| panic!("{written}: {e}"));
+        assert_eq!(
+            drillopt::study::model_hash(&p),
+            drillopt::study::model_hash(&decimal),
+            "{written}"
+        );
+    }
+    one_refusal(
+        &text.replace(hole, "[model.borehole]\ndiameter = \"81/2 in\""),
+        "model.borehole.diameter",
+        &["unknown unit"],
     );
 }
