@@ -50,10 +50,10 @@ pub(super) fn leading_fraction(text: &str) -> Option<(f64, &str)> {
 /// A fraction at the start of `s`, `n/d` (whole numbers, n < d) followed by the end, a space or
 /// a letter, or a vulgar fraction: its value and the rest.
 fn fraction(s: &str) -> Option<(f64, &str)> {
-    if let Some(c) = s.chars().next() {
-        if let Some(&(_, value)) = VULGAR.iter().find(|(v, _)| *v == c) {
-            return Some((value, &s[c.len_utf8()..]));
-        }
+    if let Some(c) = s.chars().next()
+        && let Some(&(_, value)) = VULGAR.iter().find(|(v, _)| *v == c)
+    {
+        return Some((value, &s[c.len_utf8()..]));
     }
     let n_len = s.find(|c: char| !c.is_ascii_digit()).unwrap_or(s.len());
     let rest = s[n_len..].strip_prefix('/')?;
