@@ -145,13 +145,57 @@ pub struct BoreholeSection {
 /// A table that names a law and gives its parameters (`[model.wall]`, `[model.bit]`), checked
 /// against the law's own table ([`crate::model::wall::WALL_LAWS`], [`crate::model::bit::BIT_LAWS`])
 /// in validation, so unknown keys are still refused.
-#[derive(Debug, Clone, Deserialize)]
+///
+/// Read key by key (not with a flattened map, whose errors name only the table: `diameter =
+/// true` was refused under `model.bit`): a value that is neither a number nor a string is kept
+/// in `invalid` for validation to refuse under its own key.
+#[derive(Debug, Clone, Default)]
 pub struct LawSection {
     /// The law's name; the registry's first (the seed paper's law) when omitted.
     pub law: Option<String>,
     /// Every other key of the table: the law's parameters by name.
-    #[serde(flatten)]
     pub parameters: std::collections::BTreeMap<String, RawQuantity>,
+    /// The keys whose value is neither a number nor a string, with what it was (`"boolean
+    /// `true`"`), `law` among them when it is not a string.
+    pub invalid: Vec<(String, String)>,
+}
+
+impl<'de> Deserialize<'de> for LawSection {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let table = std::collections::BTreeMap::<String, toml::Value>::deserialize(deserializer)?;
+        let mut section = LawSection::default();
+        for (key, value) in table {
+            match (key.as_str(), value) {
+                ("law", toml::Value::String(name)) => section.law = Some(name),
+                ("law", other) => section.invalid.push((key, describe(&other))),
+                (_, toml::Value::String(text)) => {
+                    section.parameters.insert(key, RawQuantity::Text(text));
+                }
+                (_, toml::Value::Float(x)) => {
+                    section.parameters.insert(key, RawQuantity::Number(x));
+                }
+                (_, toml::Value::Integer(i)) => {
+                    section
+                        .parameters
+                        .insert(key, RawQuantity::Number(i as f64));
+                }
+                (_, other) => section.invalid.push((key, describe(&other))),
+            }
+        }
+        Ok(section)
+    }
+}
+
+/// What a TOML value is, for a refusal: "boolean `true`", "an array", "integer `5`".
+fn describe(value: &toml::Value) -> String {
+    match value {
+        toml::Value::Boolean(b) => format!("boolean `{b}`"),
+        toml::Value::Integer(i) => format!("integer `{i}`"),
+        toml::Value::Float(x) => format!("float `{x}`"),
+        toml::Value::Array(_) => "an array".to_string(),
+        toml::Value::Table(_) => "a table".to_string(),
+        other => format!("`{other}`"),
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -859,6 +859,13 @@ fn chosen_law<L: ?Sized + Law>(
     registry: &'static [LawEntry<L>],
     own: &[&str],
 ) -> Result<Chosen<L>, ProblemError> {
+    // A law's name that is not a string ends the table, as an unknown name does.
+    if let Some((_, what)) = section.invalid.iter().find(|(k, _)| k == "law") {
+        return Err(c.fail(
+            &format!("{table}.law"),
+            format!("must be a law's name as a string, got {what}"),
+        ));
+    }
     let entry = match &section.law {
         None => &registry[0],
         Some(name) => find(registry, name).ok_or_else(|| {
@@ -869,6 +876,16 @@ fn chosen_law<L: ?Sized + Law>(
             )
         })?,
     };
+    for (key, what) in &section.invalid {
+        c.record(
+            &format!("{table}.{key}"),
+            format!(
+                "must be a number in SI units or a string with a unit such as \"60 rpm\", got \
+                 {what}"
+            ),
+        );
+    }
+    let refused = |name: &str| section.invalid.iter().any(|(k, _)| k == name);
     let names: Vec<&str> = entry.parameters.iter().map(|p| p.name()).collect();
     let sized = names.contains(&"radius");
     for unknown in section.parameters.keys() {
@@ -895,6 +912,10 @@ fn chosen_law<L: ?Sized + Law>(
             }
             (Some(raw), _) => c.spec_value(p, raw),
             (None, Some(default)) => Ok(default),
+            // Refused as written above: not also called missing.
+            (None, None) if refused(p.name()) || (p.name() == "radius" && refused("diameter")) => {
+                Ok(f64::NAN)
+            }
             (None, None) => Ok(c.record(
                 p.key,
                 format!(

@@ -321,9 +321,26 @@ fn a_bit_can_be_given_by_its_diameter() {
         "model.bit.diameter",
         &["must be in [0.01, 1] m", "got 0.009 m (written \"9 mm\")"],
     );
-    // A wrong type is refused once (not also "radius is required").
-    let lines = refusals(&detournay.replace(bit, "diameter = true"));
-    assert_eq!(lines.len(), 1, "{lines:#?}");
+    // A wrong type is refused once, under its own key (not the table's), and not also as
+    // "radius is required"; so is a law's name that is not a string.
+    one_refusal(
+        &detournay.replace(bit, "diameter = true"),
+        "model.bit.diameter",
+        &[
+            "must be a number in SI units or a string with a unit",
+            "got boolean `true`",
+        ],
+    );
+    one_refusal(
+        &detournay.replace(bit, "radius = [70]"),
+        "model.bit.radius",
+        &["got an array"],
+    );
+    one_refusal(
+        &detournay.replace("law = \"detournay\"", "law = 5"),
+        "model.bit.law",
+        &["must be a law's name as a string, got integer `5`"],
+    );
     one_refusal(
         &detournay.replace(bit, "diameter = \"150 mm\""),
         "model.bit.diameter",
