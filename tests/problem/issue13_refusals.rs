@@ -7,12 +7,14 @@ use drillopt::problem::Problem;
 use std::path::Path;
 
 fn base() -> String {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/problems/regression/tiny_string.toml"
-    ))
-    .unwrap();
+    let text = shipped("regression/tiny_string.toml");
     text[..text.find("[objective]").unwrap()].to_string()
+}
+
+/// The text of the shipped problem file `problems/{path}`.
+fn shipped(path: &str) -> String {
+    let file = format!("{}/problems/{path}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
 /// The refusal lines of `text` (one per refused key).
@@ -195,11 +197,7 @@ fn a_string_or_a_pipe_too_small_to_mesh_is_refused_under_its_key() {
 /// times the bit (a diameter typed as a radius), are refused naming the key and both sizes.
 #[test]
 fn a_bit_and_its_hole_must_match() {
-    let detournay = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/problems/seed_detournay.toml"
-    ))
-    .unwrap();
+    let detournay = shipped("seed_detournay.toml");
     let bit = "radius = \"70 mm\"                # a: the bit drills the 70 mm-radius hole";
     assert!(detournay.contains(bit));
     let text = detournay.replace(bit, "radius = \"140 mm\"");
@@ -284,11 +282,7 @@ fn the_hole_can_be_given_by_its_diameter() {
 /// key the file used.
 #[test]
 fn a_bit_can_be_given_by_its_diameter() {
-    let detournay = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/problems/seed_detournay.toml"
-    ))
-    .unwrap();
+    let detournay = shipped("seed_detournay.toml");
     let bit = "radius = \"70 mm\"                # a: the bit drills the 70 mm-radius hole";
     assert!(detournay.contains(bit));
     let by_radius = Problem::from_toml(&detournay, Path::new("p.toml")).unwrap();
@@ -359,11 +353,7 @@ fn a_bit_can_be_given_by_its_diameter() {
         ],
     );
     // The paper's law has no size: a diameter there is an unknown key.
-    let seed = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/problems/seed_mc2014.toml"
-    ))
-    .unwrap();
+    let seed = shipped("seed_mc2014.toml");
     let law = "limit_force = \"250 kN\"";
     assert!(seed.contains(law));
     one_refusal(
@@ -381,11 +371,7 @@ fn a_bit_can_be_given_by_its_diameter() {
 /// an improper "81/2 in" (a mistyped 8 1/2) is still refused.
 #[test]
 fn sizes_are_read_as_the_tables_write_them() {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/problems/field/well_1km.toml"
-    ))
-    .unwrap();
+    let text = shipped("field/well_1km.toml");
     let hole = "[model.borehole]\ndiameter = \"8.5 in\"";
     assert!(text.contains(hole));
     let decimal = Problem::from_toml(&text, Path::new("p.toml")).unwrap();
